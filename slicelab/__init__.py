@@ -1,0 +1,41 @@
+"""slicelab: exact slicing of triangle meshes (STL) and what labs make of each layer.
+
+Each stage lives in its own module and passes plain data:
+
+========================  ====================================================
+``slicelab.io``           `load`, `save`, `MeshFileError`
+``slicelab.mesh``         `Mesh`, the small immutable container
+``slicelab.check``        `check` -> `MeshReport` (normals, open edges, shells)
+``slicelab.sections``     `section`, `slice_layers` -> `Section`
+``slicelab.loops``        chaining segments into loops, hole hierarchy
+========================  ====================================================
+"""
+from __future__ import annotations
+
+import importlib
+
+from .check import MeshReport, check
+from .io import MeshFileError, load, save
+from .mesh import Mesh
+
+__version__ = "0.1.0"
+
+# Heavier stages load on first use, so `import slicelab` and the CLI stay fast.
+_LAZY = {
+    "Section": "sections", "Frame": "sections", "section": "sections", "slice_layers": "sections",
+}
+
+__all__ = ["Mesh", "MeshFileError", "MeshReport", "check", "load", "save", "__version__", *_LAZY]
+
+
+def __getattr__(name):
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module 'slicelab' has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_LAZY))

@@ -1,0 +1,182 @@
+"""Mesh checks a lab needs before slicing: normals, open edges, shells, volume.
+
+Vertices are welded exactly (see `slicelab.topology`), so the counts describe
+the mesh as stored, with no tolerance that could hide or invent a defect.
+"""
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass
+
+import numpy as np
+from scipy.sparse import coo_matrix
+from scipy.sparse.csgraph import connected_components
+
+from .mesh import Mesh
+from .topology import edge_table, weld
+
+__all__ = ["MeshReport", "check", "signed_volume"]
+
+
+@dataclass(frozen=True)
+class MeshReport:
+    """What `check` found in a mesh.
+
+    Attributes
+    ----------
+    n_facets, n_vertices : int
+        Facets, and distinct (welded) vertices.
+    n_degenerate : int
+        Facets of zero area.
+    n_flipped_normals : int
+        Stored normals more than 90 degrees from the winding normal.
+    n_open_edges : int
+        Edges used by one facet only (holes in the surface).
+    n_nonmanifold_edges : int
+        Edges used by three facets or more.
+    n_misoriented_edges : int
+        Edges of two facets that run the same way (inconsistent winding).
+    n_shells : int
+        Edge-connected pieces of surface.
+    volume : float
+        Signed volume in mm^3 (positive for outward normals).
+    area : float
+        Surface area in mm^2.
+    watertight : bool
+        No open and no non-manifold edge.
+    bounds : tuple
+        ((xmin, ymin, zmin), (xmax, ymax, zmax)).
+    """
+
+    n_facets: int
+    n_vertices: int
+    n_degenerate: int
+    n_flipped_normals: int
+    n_open_edges: int
+    n_nonmanifold_edges: int
+    n_misoriented_edges: int
+    n_shells: int
+    volume: float
+    area: float
+    watertight: bool
+    bounds: tuple
+
+    @property
+    def winding_consistent(self) -> bool:
+        """True when every two-facet edge is walked once each way."""
+        return self.n_misoriented_edges == 0
+
+    def to_dict(self) -> dict:
+        """Plain-Python dictionary, ready for JSON."""
+        d = asdict(self)
+        d["winding_consistent"] = self.winding_consistent
+        return d
+
+    def __str__(self) -> str:
+        (x0, y0, z0), (x1, y1, z1) = self.bounds
+        lines = [
+            f"facets            {self.n_facets}",
+            f"vertices          {self.n_vertices}",
+            f"size (mm)         {x1 - x0:.4g} x {y1 - y0:.4g} x {z1 - z0:.4g}",
+            f"volume (mm3)      {self.volume:.6g}",
+            f"area (mm2)        {self.area:.6g}",
+            f"shells            {self.n_shells}",
+            f"degenerate        {self.n_degenerate}",
+            f"flipped normals   {self.n_flipped_normals}",
+            f"open edges        {self.n_open_edges}",
+            f"non-manifold      {self.n_nonmanifold_edges}",
+            f"misoriented edges {self.n_misoriented_edges}",
+            f"watertight        {'yes' if self.watertight else 'no'}",
+        ]
+        return "\n".join(lines)
+
+
+def signed_volume(triangles: np.ndarray) -> float:
+    """Signed volume enclosed by triangles (divergence theorem).
+
+    Corners are taken relative to the bounding-box centre, which keeps the
+    sum accurate for parts far from the origin.
+
+    Examples
+    --------
+    >>> from slicelab import Mesh
+    >>> v = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]
+    >>> f = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
+    >>> round(signed_volume(Mesh.from_vertices_faces(v, f).triangles), 12)
+    0.166666666667
+    """
+    t = np.asarray(triangles, dtype=np.float64)
+    if len(t) == 0:
+        return 0.0
+    flat = t.reshape(-1, 3)
+    c = (flat.min(axis=0) + flat.max(axis=0)) / 2
+    a, b, d = t[:, 0] - c, t[:, 1] - c, t[:, 2] - c
+    return float(np.einsum("ij,ij->", a, np.cross(b, d)) / 6.0)
+
+
+def check(mesh: Mesh) -> MeshReport:
+    """Count the defects of a mesh and measure it.
+
+    Parameters
+    ----------
+    mesh : Mesh
+
+    Returns
+    -------
+    MeshReport
+
+    Examples
+    --------
+    >>> from slicelab import Mesh
+    >>> v = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]
+    >>> f = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
+    >>> r = check(Mesh.from_vertices_faces(v, f))
+    >>> r.watertight, r.n_shells, r.n_open_edges
+    (True, 1, 0)
+    """
+    t = mesh.triangles
+    n = len(t)
+    if n == 0:
+        z = (0.0, 0.0, 0.0)
+        return MeshReport(0, 0, 0, 0, 0, 0, 0, 0, 0.0, 0.0, False, (z, z))
+    cross = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+    double_area = np.sqrt(np.einsum("ij,ij->i", cross, cross))
+    longest = np.max(np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2), axis=1)
+    # Zero area up to rounding: relative to the facet's own size, not the part's.
+    degenerate = double_area <= 1e-12 * longest**2
+    flipped = np.einsum("ij,ij->i", mesh.file_normals, mesh.normals) < 0
+
+    vertices, faces = weld(t)
+    et = edge_table(faces)
+    counts = et["counts"]
+    n_open = int(np.count_nonzero(counts == 1))
+    n_nonmanifold = int(np.count_nonzero(counts > 2))
+
+    # A two-facet edge is consistent when one facet walks it forward, the other backward.
+    fwd = np.zeros(len(counts), dtype=np.int64)
+    np.add.at(fwd, et["inverse"], et["forward"].astype(np.int64))
+    n_misoriented = int(np.count_nonzero((counts == 2) & (fwd != 1)))
+
+    # Shells: facets joined through edges they share (sorted edge keys are adjacent).
+    order = et["order"]
+    inv_sorted = et["inverse"][order]
+    same = inv_sorted[1:] == inv_sorted[:-1]
+    fa = order[:-1][same] // 3
+    fb = order[1:][same] // 3
+    graph = coo_matrix((np.ones(len(fa), dtype=np.int8), (fa, fb)), shape=(n, n))
+    n_shells, _ = connected_components(graph, directed=False)
+
+    lo, hi = mesh.bounds
+    return MeshReport(
+        n_facets=n,
+        n_vertices=len(vertices),
+        n_degenerate=int(np.count_nonzero(degenerate)),
+        n_flipped_normals=int(np.count_nonzero(flipped)),
+        n_open_edges=n_open,
+        n_nonmanifold_edges=n_nonmanifold,
+        n_misoriented_edges=n_misoriented,
+        n_shells=int(n_shells),
+        volume=signed_volume(t),
+        area=float(double_area.sum() / 2),
+        watertight=bool(n_open == 0 and n_nonmanifold == 0),
+        bounds=(tuple(map(float, lo)), tuple(map(float, hi))),
+    )

@@ -1,0 +1,260 @@
+"""Reading and writing STL through numpy-stl, and safe file output.
+
+numpy-stl does the parsing; this module decides which format a file is in,
+refuses files that cannot be an STL before anything is allocated, and turns
+every failure into one `MeshFileError` that names the file and the reason.
+"""
+from __future__ import annotations
+
+import contextlib
+import io
+import os
+import re
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+from .mesh import Mesh
+
+__all__ = ["MeshFileError", "load", "save", "atomic_path", "atomic_open"]
+
+_HEADER = 80
+_RECORD = 50  # 12 float32 + uint16 attribute
+_MAGIC = {
+    b"\x89PNG": "a PNG image", b"\xff\xd8\xff": "a JPEG image", b"PK\x03\x04": "a ZIP archive",
+    b"%PDF": "a PDF document", b"GIF8": "a GIF image", b"\x1f\x8b": "a gzip archive",
+    b"ply": "a PLY mesh", b"o ": "an OBJ mesh", b"# ": "a text file",
+}
+
+
+class MeshFileError(ValueError):
+    """An input file that is not a usable STL mesh.
+
+    The message always names the file and the reason, on one line.
+    """
+
+    def __init__(self, path, reason: str):
+        self.path = str(path)
+        self.reason = reason
+        super().__init__(f"{path}: {reason}")
+
+
+def _describe_foreign(head: bytes) -> str | None:
+    for magic, what in _MAGIC.items():
+        if head.startswith(magic):
+            return what
+    return None
+
+
+def load(path) -> Mesh:
+    """Read a binary or ASCII STL file.
+
+    Binary files are recognised by their size (84 bytes + 50 per triangle,
+    as the header's count claims), so a binary file whose header starts with
+    ``solid`` is still read as binary. ASCII files may hold several solids,
+    odd spacing and CRLF line ends.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+
+    Returns
+    -------
+    Mesh
+
+    Raises
+    ------
+    MeshFileError
+        The file is missing, a directory, empty, truncated, not an STL,
+        malformed, holds non-finite coordinates or no facets.
+
+    Examples
+    --------
+    >>> import slicelab, pathlib
+    >>> m = slicelab.load(pathlib.Path(slicelab.__file__).parents[1] / "data" / "sphere.stl")
+    >>> m.triangles.shape[1:]
+    (3, 3)
+    """
+    p = Path(path)
+    if not p.exists():
+        raise MeshFileError(p, "no such file")
+    if p.is_dir():
+        raise MeshFileError(p, "is a directory, not an STL file")
+    try:
+        size = p.stat().st_size
+        with open(p, "rb") as fh:
+            head = fh.read(_HEADER + 4)
+    except OSError as exc:
+        raise MeshFileError(p, f"cannot be read ({exc.strerror or exc})") from None
+    if size == 0:
+        raise MeshFileError(p, "is empty")
+
+    if size >= _HEADER + 4:
+        count = int.from_bytes(head[_HEADER:_HEADER + 4], "little")
+        if size == _HEADER + 4 + _RECORD * count:
+            triangles, normals = _read_binary(p, count)
+            return _finish(p, triangles, normals)
+    else:
+        count = None
+
+    stripped = head.lstrip()
+    if stripped[:5].lower() == b"solid":
+        triangles, normals = _read_ascii(p)
+        return _finish(p, triangles, normals)
+
+    foreign = _describe_foreign(head)
+    if foreign:
+        raise MeshFileError(p, f"not an STL file (looks like {foreign})")
+    if count is None:
+        raise MeshFileError(p, f"not an STL file ({size} bytes, shorter than a binary STL header)")
+    expected = _HEADER + 4 + _RECORD * count
+    if expected > size:
+        raise MeshFileError(
+            p, f"truncated binary STL: header claims {count} triangles ({expected} bytes) "
+               f"but the file has {size} bytes")
+    raise MeshFileError(
+        p, f"not an STL file: binary header claims {count} triangles ({expected} bytes) "
+           f"but the file has {size} bytes")
+
+
+def _read_binary(p: Path, count: int):
+    from stl import mesh as stl_mesh
+    from stl.stl import Mode
+    try:
+        m = stl_mesh.Mesh.from_file(str(p), calculate_normals=False, mode=Mode.BINARY)
+    except Exception as exc:  # numpy-stl raises assorted types
+        raise MeshFileError(p, f"unreadable binary STL ({exc})") from None
+    if len(m.data) != count:
+        raise MeshFileError(p, f"binary STL holds {len(m.data)} of {count} triangles")
+    return m.vectors, m.normals
+
+
+_WS = re.compile(rb"[ \t\r\f\v]+")
+
+
+def _read_ascii(p: Path):
+    from stl import mesh as stl_mesh
+    from stl.stl import Mode
+    raw = p.read_bytes()
+    if b"\0" in raw:
+        raise MeshFileError(p, "not an ASCII STL (binary bytes after a 'solid' header)")
+    # numpy-stl matches keywords literally ("outer loop"), so fold runs of spaces,
+    # tabs and CRs into one space before handing the text over.
+    text = b"\n".join(line.strip() for line in _WS.sub(b" ", raw).split(b"\n") if line.strip())
+    vectors, normals = [], []
+    try:
+        for part in stl_mesh.Mesh.from_multi_file(str(p), calculate_normals=False,
+                                                  fh=io.BytesIO(text + b"\n"), mode=Mode.ASCII,
+                                                  speedups=False):
+            vectors.append(part.vectors)
+            normals.append(part.normals)
+    except Exception as exc:
+        reason = str(exc.args[-1] if isinstance(exc, RuntimeError) and exc.args else exc)
+        reason = reason.replace("\n", " ")[:200]
+        raise MeshFileError(p, f"malformed ASCII STL ({reason})") from None
+    tail = text.rsplit(b"\n", 1)[-1].lower() if text else b""
+    if not tail.startswith(b"endsolid") and not tail.startswith(b"end solid"):
+        raise MeshFileError(p, "malformed ASCII STL (no closing 'endsolid': truncated?)")
+    n_facets = len(re.findall(rb"(?im)^facet\b", text))
+    n_vertices = len(re.findall(rb"(?im)^vertex\b", text))
+    got = sum(len(v) for v in vectors)
+    if n_facets != got or n_vertices != 3 * n_facets:
+        raise MeshFileError(
+            p, f"malformed ASCII STL ({n_facets} facets with {n_vertices} vertices, {got} read)")
+    if not vectors:
+        return np.zeros((0, 3, 3)), np.zeros((0, 3))
+    return np.concatenate(vectors), np.concatenate(normals)
+
+
+def _finish(p: Path, triangles, normals) -> Mesh:
+    t = np.asarray(triangles, dtype=np.float64).reshape(-1, 3, 3)
+    if len(t) == 0:
+        raise MeshFileError(p, "has no facets")
+    if not np.isfinite(t).all():
+        bad = int((~np.isfinite(t)).any(axis=(1, 2)).sum())
+        raise MeshFileError(p, f"{bad} facets have NaN or infinite coordinates")
+    n = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
+    n = np.where(np.isfinite(n), n, 0.0)  # a bad stored normal is a defect to report, not a reason to refuse
+    return Mesh(t, n)
+
+
+@contextlib.contextmanager
+def atomic_path(path):
+    """Yield a temporary path beside `path`; rename it over `path` on success.
+
+    A reader never sees a half-written file, and a failure leaves no file.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> d = tempfile.mkdtemp()
+    >>> with atomic_path(os.path.join(d, "x.txt")) as tmp:
+    ...     _ = open(tmp, "w").write("whole")
+    >>> open(os.path.join(d, "x.txt")).read()
+    'whole'
+    """
+    target = Path(path)
+    target.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=target.parent)
+    os.close(fd)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file ordinary permissions
+    try:
+        yield Path(tmp)
+        os.replace(tmp, target)
+    except BaseException:
+        with contextlib.suppress(OSError):
+            os.unlink(tmp)
+        raise
+
+
+@contextlib.contextmanager
+def atomic_open(path, mode: str = "w", **kwargs):
+    """Open a temporary file beside `path` and rename it over `path` when closed cleanly.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> target = os.path.join(tempfile.mkdtemp(), "y.txt")
+    >>> with atomic_open(target) as fh:
+    ...     _ = fh.write("ok")
+    >>> open(target).read()
+    'ok'
+    """
+    with atomic_path(path) as tmp:
+        with open(tmp, mode, **kwargs) as fh:
+            yield fh
+
+
+def save(mesh: Mesh, path, ascii: bool = False) -> None:
+    """Write a mesh as binary (default) or ASCII STL, atomically.
+
+    The stored normals are the winding normals.
+
+    Parameters
+    ----------
+    mesh : Mesh
+    path : str or os.PathLike
+    ascii : bool, default False
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> m = Mesh.from_triangles([[[0, 0, 0], [1, 0, 0], [0, 1, 0]]])
+    >>> f = os.path.join(tempfile.mkdtemp(), "t.stl")
+    >>> save(m, f, ascii=True); len(load(f))
+    1
+    """
+    from stl import mesh as stl_mesh
+    from stl.stl import Mode
+    data = np.zeros(len(mesh), dtype=stl_mesh.Mesh.dtype)
+    data["vectors"] = mesh.triangles
+    data["normals"] = mesh.normals
+    m = stl_mesh.Mesh(data, calculate_normals=False)
+    target = Path(path)
+    with atomic_path(target) as tmp:
+        with open(tmp, "wb") as fh:
+            m.save(target.stem or "slicelab", fh=fh, mode=Mode.ASCII if ascii else Mode.BINARY,
+                   update_normals=False)

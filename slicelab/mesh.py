@@ -1,0 +1,170 @@
+"""The triangle mesh container shared by every stage.
+
+`Mesh` is deliberately small: the triangles, their normals from the vertex
+winding, the normals the file stored, and nothing cached. Each stage keeps its
+own logic in its own module and takes a `Mesh` as plain data.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+__all__ = ["Mesh", "winding_normals"]
+
+
+def winding_normals(triangles: np.ndarray) -> np.ndarray:
+    """Unit normals of triangles from their vertex order (right-hand rule).
+
+    Parameters
+    ----------
+    triangles : (n, 3, 3) array_like
+        Triangle corners in winding order.
+
+    Returns
+    -------
+    (n, 3) ndarray
+        ``(v1 - v0) x (v2 - v0)`` scaled to unit length; zero rows for
+        degenerate (zero-area) triangles.
+
+    Examples
+    --------
+    >>> winding_normals([[[0, 0, 0], [1, 0, 0], [0, 1, 0]]])
+    array([[0., 0., 1.]])
+    """
+    t = np.asarray(triangles, dtype=np.float64)
+    n = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+    length = np.sqrt(np.einsum("ij,ij->i", n, n))
+    # Degenerate facets keep a zero normal rather than NaN, as seed 002 does.
+    np.divide(n, length[:, None], out=n, where=length[:, None] > 0)
+    n[length == 0] = 0.0
+    return n
+
+
+@dataclass(frozen=True, eq=False)
+class Mesh:
+    """An immutable triangle soup in millimetres.
+
+    Parameters
+    ----------
+    triangles : (n, 3, 3) array_like
+        Corners of each facet in winding order (counter-clockwise seen from
+        outside for a well-oriented solid).
+    file_normals : (n, 3) array_like, optional
+        Normals as stored in the file; defaults to the winding normals.
+
+    Attributes
+    ----------
+    triangles : (n, 3, 3) float64 ndarray
+    normals : (n, 3) float64 ndarray
+        Unit normals recomputed from the vertex order (seed 002).
+    file_normals : (n, 3) float64 ndarray
+        Normals as the file stored them (possibly zero or wrong).
+
+    Examples
+    --------
+    >>> m = Mesh.from_triangles([[[0, 0, 0], [1, 0, 0], [0, 1, 0]]])
+    >>> len(m), m.normals[0].tolist()
+    (1, [0.0, 0.0, 1.0])
+    """
+
+    triangles: np.ndarray
+    file_normals: np.ndarray | None = None
+    normals: np.ndarray = field(init=False, repr=False)
+
+    def __post_init__(self) -> None:
+        t = np.ascontiguousarray(self.triangles, dtype=np.float64)
+        if t.ndim != 3 or t.shape[1:] != (3, 3):
+            raise ValueError(f"triangles must have shape (n, 3, 3), got {t.shape}")
+        t.setflags(write=False)
+        normals = winding_normals(t)
+        normals.setflags(write=False)
+        if self.file_normals is None:
+            fn = normals
+        else:
+            fn = np.ascontiguousarray(self.file_normals, dtype=np.float64)
+            if fn.shape != (len(t), 3):
+                raise ValueError(f"file_normals must have shape ({len(t)}, 3), got {fn.shape}")
+            fn.setflags(write=False)
+        object.__setattr__(self, "triangles", t)
+        object.__setattr__(self, "normals", normals)
+        object.__setattr__(self, "file_normals", fn)
+
+    def __len__(self) -> int:
+        return len(self.triangles)
+
+    def __repr__(self) -> str:
+        lo, hi = self.bounds if len(self) else (np.zeros(3), np.zeros(3))
+        size = " x ".join(f"{s:.4g}" for s in hi - lo)
+        return f"Mesh({len(self)} facets, {size} mm)"
+
+    @property
+    def bounds(self) -> np.ndarray:
+        """(2, 3) array: minimum and maximum corner of the bounding box."""
+        flat = self.triangles.reshape(-1, 3)
+        return np.stack([flat.min(axis=0), flat.max(axis=0)])
+
+    @classmethod
+    def from_triangles(cls, triangles, file_normals=None) -> "Mesh":
+        """Build a mesh from an (n, 3, 3) array of corners.
+
+        Accepts numpy arrays and anything array-like, such as numpy-stl's
+        ``mesh.vectors`` or trimesh's ``mesh.triangles``.
+
+        Examples
+        --------
+        >>> Mesh.from_triangles(np.zeros((0, 3, 3))).triangles.shape
+        (0, 3, 3)
+        """
+        return cls(np.asarray(triangles, dtype=np.float64).reshape(-1, 3, 3), file_normals)
+
+    @classmethod
+    def from_vertices_faces(cls, vertices, faces) -> "Mesh":
+        """Build a mesh from shared vertices and integer faces.
+
+        Parameters
+        ----------
+        vertices : (v, 3) array_like
+        faces : (n, 3) array_like of int
+            Indices into `vertices`, in winding order.
+
+        Examples
+        --------
+        >>> v = [[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]]
+        >>> f = [[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]]
+        >>> len(Mesh.from_vertices_faces(v, f))
+        4
+        """
+        v = np.asarray(vertices, dtype=np.float64)
+        f = np.asarray(faces, dtype=np.int64)
+        if v.ndim != 2 or v.shape[1] != 3:
+            raise ValueError(f"vertices must have shape (v, 3), got {v.shape}")
+        if f.ndim != 2 or f.shape[1] != 3:
+            raise ValueError(f"faces must have shape (n, 3), got {f.shape}")
+        if f.size and (f.min() < 0 or f.max() >= len(v)):
+            raise ValueError("faces index vertices that do not exist")
+        return cls(v[f])
+
+    def transformed(self, matrix) -> "Mesh":
+        """Return the mesh moved by a 4x4 homogeneous matrix.
+
+        A matrix with negative determinant mirrors the mesh; the winding is
+        then reversed so that normals still point outwards.
+
+        Examples
+        --------
+        >>> m = Mesh.from_triangles([[[0, 0, 0], [1, 0, 0], [0, 1, 0]]])
+        >>> shift = np.eye(4); shift[:3, 3] = [0, 0, 5]
+        >>> m.transformed(shift).bounds[0].tolist()
+        [0.0, 0.0, 5.0]
+        """
+        m = np.asarray(matrix, dtype=np.float64)
+        if m.shape != (4, 4):
+            raise ValueError(f"matrix must be 4x4, got {m.shape}")
+        t = self.triangles @ m[:3, :3].T + m[:3, 3]
+        fn = self.file_normals @ np.linalg.inv(m[:3, :3])  # normals move by the inverse transpose
+        if np.linalg.det(m[:3, :3]) < 0:
+            t = t[:, ::-1]
+        lengths = np.linalg.norm(fn, axis=1, keepdims=True)
+        fn = np.divide(fn, lengths, out=np.zeros_like(fn), where=lengths > 0)
+        return Mesh(t, fn)
