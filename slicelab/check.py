@@ -138,11 +138,15 @@ def check(mesh: Mesh) -> MeshReport:
     if n == 0:
         z = (0.0, 0.0, 0.0)
         return MeshReport(0, 0, 0, 0, 0, 0, 0, 0, 0.0, 0.0, False, (z, z))
-    cross = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+    e1 = t[:, 1] - t[:, 0]
+    e2 = t[:, 2] - t[:, 0]
+    cross = np.cross(e1, e2)
     double_area = np.sqrt(np.einsum("ij,ij->i", cross, cross))
-    longest = np.max(np.linalg.norm(t - np.roll(t, 1, axis=1), axis=2), axis=1)
+    e3 = e2 - e1
+    longest2 = np.maximum(np.maximum(np.einsum("ij,ij->i", e1, e1), np.einsum("ij,ij->i", e2, e2)),
+                          np.einsum("ij,ij->i", e3, e3))
     # Zero area up to rounding: relative to the facet's own size, not the part's.
-    degenerate = double_area <= 1e-12 * longest**2
+    degenerate = double_area <= 1e-12 * longest2
     flipped = np.einsum("ij,ij->i", mesh.file_normals, mesh.normals) < 0
 
     vertices, faces = weld(t)
@@ -152,17 +156,15 @@ def check(mesh: Mesh) -> MeshReport:
     n_nonmanifold = int(np.count_nonzero(counts > 2))
 
     # A two-facet edge is consistent when one facet walks it forward, the other backward.
-    fwd = np.zeros(len(counts), dtype=np.int64)
-    np.add.at(fwd, et["inverse"], et["forward"].astype(np.int64))
+    fwd = np.bincount(et["inverse"], weights=et["forward"], minlength=len(counts))
     n_misoriented = int(np.count_nonzero((counts == 2) & (fwd != 1)))
 
-    # Shells: facets joined through edges they share (sorted edge keys are adjacent).
-    order = et["order"]
-    inv_sorted = et["inverse"][order]
-    same = inv_sorted[1:] == inv_sorted[:-1]
-    fa = order[:-1][same] // 3
-    fb = order[1:][same] // 3
-    graph = coo_matrix((np.ones(len(fa), dtype=np.int8), (fa, fb)), shape=(n, n))
+    # Shells: every facet edge links its facet to the facet that used that edge first.
+    half = np.arange(3 * n)
+    other = et["first"][et["inverse"]]
+    link = other != half
+    graph = coo_matrix((np.ones(int(link.sum()), dtype=np.int8), (half[link] // 3, other[link] // 3)),
+                       shape=(n, n))
     n_shells, _ = connected_components(graph, directed=False)
 
     lo, hi = mesh.bounds

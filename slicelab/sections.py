@@ -31,7 +31,10 @@ class Frame:
 
     Plane coordinates (s, t) of a point p are ``((p - origin) . u, (p - origin) . v)``.
     For a horizontal plane facing +z, u = x and v = y and the origin is
-    (0, 0, z), so plane coordinates are plain world (x, y).
+    (0, 0, z), so plane coordinates are plain world (x, y); facing -z, v = -y.
+    For a vertical or steep plane v points up (z projected onto the plane)
+    and u = v x normal, so drawings stand upright; for a nearly horizontal
+    one u follows x.
 
     Examples
     --------
@@ -51,8 +54,9 @@ class Frame:
 
         Examples
         --------
-        >>> Frame.from_plane((0, 0, 0), (1, 0, 0)).v.tolist()
-        [0.0, 0.0, 1.0]
+        >>> f = Frame.from_plane((0, 0, 0), (0, -1, 0))
+        >>> f.u.tolist(), f.v.tolist()
+        ([1.0, 0.0, 0.0], [0.0, 0.0, 1.0])
         """
         o = np.asarray(origin, dtype=np.float64).reshape(3)
         n = np.asarray(normal, dtype=np.float64).reshape(3)
@@ -64,12 +68,15 @@ class Frame:
             s = 1.0 if n[2] > 0 else -1.0
             return cls(np.array([0.0, 0.0, o[2]]), np.array([1.0, 0.0, 0.0]),
                        np.array([0.0, s, 0.0]), np.array([0.0, 0.0, s]))
-        # u is the world axis least aligned with n, made perpendicular: x where possible.
-        axis = np.eye(3)[0] if abs(n[0]) < 0.9 else np.eye(3)[1]
-        u = axis - np.dot(axis, n) * n
-        u /= np.linalg.norm(u)
-        v = np.cross(n, u)
-        return cls(o, u, v, n)
+        if abs(n[2]) > 0.9:
+            # Nearly horizontal: u follows x, as for the horizontal frame.
+            u = np.array([1.0, 0.0, 0.0]) - n[0] * n
+            u /= np.linalg.norm(u)
+            return cls(o, u, np.cross(n, u), n)
+        # Vertical or steep: v points up (z projected onto the plane), so drawings stand upright.
+        v = np.array([0.0, 0.0, 1.0]) - n[2] * n
+        v /= np.linalg.norm(v)
+        return cls(o, np.cross(v, n) + 0.0, v + 0.0, n)
 
     @property
     def horizontal(self) -> bool:

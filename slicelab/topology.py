@@ -19,20 +19,34 @@ _MULT = np.array(
 )
 
 
+def _fmix(h: np.ndarray) -> np.ndarray:
+    # splitmix64 finaliser, in place: a bijection that spreads every bit over the word.
+    h ^= h >> np.uint64(31)
+    h *= _MULT[5]
+    h ^= h >> np.uint64(29)
+    h *= _MULT[7]
+    h ^= h >> np.uint64(32)
+    return h
+
+
 def _row_hash(rows: np.ndarray) -> np.ndarray:
     bits = rows.view(np.uint64)
-    h = np.zeros(len(rows), dtype=np.uint64)
     with np.errstate(over="ignore"):
-        for j in range(rows.shape[1]):  # a handful of columns, not rows
-            c = bits[:, j] * _MULT[j % len(_MULT)]
-            h ^= c ^ (c >> np.uint64(29))
-            h *= _MULT[(j + 3) % len(_MULT)]
-        h ^= h >> np.uint64(32)
+        h = _fmix(bits[:, 0].copy())
+        for j in range(1, rows.shape[1]):  # a handful of columns, not rows
+            h *= _MULT[j % len(_MULT)]
+            h += bits[:, j]
+            _fmix(h)
     return h
 
 
 def exact_ids(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Number identical rows of a float or integer table.
+
+    Rows are sorted by a hash with the row index packed into the low bits of
+    the same 64-bit word, which lets numpy's fast value sort stand in for an
+    argsort. Groups are then verified against the full rows; the rare groups
+    where different rows share a hash are renumbered exactly.
 
     Parameters
     ----------
@@ -41,15 +55,15 @@ def exact_ids(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     Returns
     -------
     ids : (m,) int64 ndarray
-        Equal rows get equal ids, numbered 0 .. u-1.
+        Equal rows get equal ids, numbered 0 .. u-1 (in no particular order).
     first : (u,) int64 ndarray
-        Index of one representative row per id.
+        Index of the first row of each id.
 
     Examples
     --------
     >>> ids, first = exact_ids(np.array([[0.0, 1.0], [2.0, 3.0], [-0.0, 1.0]]))
-    >>> ids.tolist(), first.tolist()
-    ([0, 1, 0], [0, 1])
+    >>> bool(ids[0] == ids[2]), bool(ids[0] != ids[1]), sorted(first.tolist())
+    (True, True, [0, 1])
     """
     rows = np.ascontiguousarray(rows)
     if rows.dtype.kind == "f":
@@ -59,28 +73,36 @@ def exact_ids(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     m = len(rows)
     if m == 0:
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
-    h = _row_hash(rows)
-    order = np.argsort(h, kind="stable")
-    hs = h[order]
+    shift = np.uint64(max(int(m - 1).bit_length(), 1))
+    low = (np.uint64(1) << shift) - np.uint64(1)
+    packed = (_row_hash(rows) & ~low) | np.arange(m, dtype=np.uint64)
+    packed.sort()
+    order = (packed & low).astype(np.int64)
+    hs = packed >> shift
+    del packed
+    srt = np.take(rows, order, axis=0)
     new = np.empty(m, dtype=bool)
     new[0] = True
     np.not_equal(hs[1:], hs[:-1], out=new[1:])
     group = np.cumsum(new) - 1
-    starts = order[new]
-    # Verify every row against its group's first row: exactness despite hashing.
-    rep = starts[group]
-    same = np.all(rows[order] == rows[rep], axis=1)
-    if not same.all():
-        _, first, inverse = np.unique(rows, axis=0, return_index=True, return_inverse=True)
-        return inverse.reshape(-1).astype(np.int64), first.astype(np.int64)
-    # Number groups by first appearance so ids are stable and reproducible.
-    first_pos = starts
-    rank = np.empty(len(first_pos), dtype=np.int64)
-    by_pos = np.argsort(first_pos, kind="stable")
-    rank[by_pos] = np.arange(len(first_pos))
+    # Within a hash group every row must equal its neighbour; a mismatch is a collision.
+    clash = ~new[1:] & np.any(srt[1:] != srt[:-1], axis=1)
+    if clash.any():
+        bad_groups = np.unique(group[1:][clash])
+        bad = np.isin(group, bad_groups)
+        _, sub = np.unique(srt[bad], axis=0, return_inverse=True)
+        n_groups = int(group[-1]) + 1
+        group[bad] = n_groups + sub.reshape(-1)
+        _, group = np.unique(group, return_inverse=True)
+        group = group.reshape(-1)
     ids = np.empty(m, dtype=np.int64)
-    ids[order] = rank[group]
-    return ids, np.sort(first_pos)
+    ids[order] = group
+    n_ids = int(group.max()) + 1
+    first = np.full(n_ids, m, dtype=np.int64)
+    np.minimum.at(first, group, order) if clash.any() else None
+    if not clash.any():
+        first = order[new]  # rows of a group are sorted by index: the group's first is its lowest
+    return ids, first
 
 
 def weld(triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -99,8 +121,8 @@ def weld(triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     --------
     >>> t = np.array([[[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 0], [0, 1, 0]]], float)
     >>> v, f = weld(t)
-    >>> len(v), f.tolist()
-    (4, [[0, 1, 2], [1, 3, 2]])
+    >>> len(v), v[f].tolist() == t.tolist(), bool(f[0, 1] == f[1, 0])
+    (4, True, True)
     """
     flat = np.asarray(triangles, dtype=np.float64).reshape(-1, 3)
     ids, first = exact_ids(flat)
@@ -108,7 +130,7 @@ def weld(triangles: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
 
 def edge_table(faces: np.ndarray) -> dict[str, np.ndarray]:
-    """Directed and undirected edge bookkeeping of a welded mesh.
+    """Undirected edges of a welded mesh and how often each is used.
 
     Parameters
     ----------
@@ -117,35 +139,21 @@ def edge_table(faces: np.ndarray) -> dict[str, np.ndarray]:
     Returns
     -------
     dict
-        ``key`` (3n,) undirected edge key per facet edge (edge i of facet f is
-        ``3 f + i``, from corner i to corner i+1); ``order`` sorts the keys;
-        ``unique`` the distinct keys, ``inverse`` and ``counts`` per distinct
-        edge; ``forward`` (3n,) True when the edge runs from lower to higher
-        vertex id.
+        ``inverse`` (3n,) edge id of each facet edge (edge i of facet f is
+        ``3 f + i``, from corner i to corner i+1); ``first`` (e,) the first
+        facet edge of each id; ``counts`` (e,) facet edges per id;
+        ``forward`` (3n,) True when the facet edge runs from the lower to the
+        higher vertex id.
 
     Examples
     --------
     >>> t = edge_table(np.array([[0, 1, 2], [0, 2, 3]]))
-    >>> t["counts"].tolist()
-    [1, 2, 1, 1, 1]
+    >>> sorted(t["counts"].tolist())
+    [1, 1, 1, 1, 2]
     """
     f = np.asarray(faces, dtype=np.int64)
     a = f.reshape(-1)
-    b = np.roll(f, -1, axis=1).reshape(-1)
-    lo = np.minimum(a, b)
-    hi = np.maximum(a, b)
-    nv = int(f.max()) + 1 if f.size else 1
-    key = lo * nv + hi
-    order = np.argsort(key, kind="stable")
-    ks = key[order]
-    new = np.empty(len(ks), dtype=bool)
-    if len(ks):
-        new[0] = True
-        np.not_equal(ks[1:], ks[:-1], out=new[1:])
-    group = np.cumsum(new) - 1
-    inverse = np.empty(len(ks), dtype=np.int64)
-    inverse[order] = group
-    starts = np.flatnonzero(new)
-    counts = np.diff(np.append(starts, len(ks)))
-    return {"key": key, "order": order, "unique": ks[new], "inverse": inverse,
-            "counts": counts, "forward": a < b}
+    b = f[:, [1, 2, 0]].reshape(-1)
+    inverse, first = exact_ids(np.stack([np.minimum(a, b), np.maximum(a, b)], axis=1))
+    counts = np.bincount(inverse, minlength=len(first))
+    return {"inverse": inverse, "first": first, "counts": counts, "forward": a < b}
