@@ -23,6 +23,7 @@ __version__ = "0.1.0"
 # Heavier stages load on first use, so `import slicelab` and the CLI stay fast.
 _LAZY = {
     "Section": "sections", "Frame": "sections", "section": "sections", "slice_layers": "sections",
+    "Split": "split", "split": "split",
 }
 
 __all__ = ["Mesh", "MeshFileError", "MeshReport", "check", "load", "save", "__version__", *_LAZY]

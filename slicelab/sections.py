@@ -22,7 +22,8 @@ from .loops import Polygon, build_polygons, chain_segments, join_open_chains, lo
 from .mesh import Mesh
 from .topology import exact_ids
 
-__all__ = ["Frame", "Section", "section", "slice_layers", "layer_heights"]
+__all__ = ["Frame", "Section", "section", "slice_layers", "layer_heights", "crossing_edges",
+           "edge_points", "plane_distances"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -232,6 +233,54 @@ class Section:
 
 
 # ----------------------------------------------------------------- the kernel
+_NEXT = np.array([1, 2, 0])
+
+
+def crossing_edges(dist: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The two edges where each straddling facet crosses the plane.
+
+    Parameters
+    ----------
+    dist : (p, 3) ndarray
+        Signed distances of the corners of facets that each have a corner
+        below (< 0) and one above (>= 0).
+
+    Returns
+    -------
+    down, up : (p,) int ndarrays
+        Edge ``i`` runs from corner i to corner i+1 (winding order); `down`
+        goes above -> below, `up` below -> above. The below/above corners of
+        `down` are ``(down + 1) % 3, down`` and of `up` ``up, (up + 1) % 3``.
+
+    Examples
+    --------
+    >>> crossing_edges(np.array([[-1.0, 1.0, 2.0]]))
+    (array([2]), array([0]))
+    """
+    above = dist >= 0
+    a_next = above[:, _NEXT]
+    return np.argmax(above & ~a_next, axis=1), np.argmax(~above & a_next, axis=1)
+
+
+def edge_points(corners: np.ndarray, dist: np.ndarray, rows, below, above) -> np.ndarray:
+    """Where edges (below corner, above corner) of facets `rows` meet the plane.
+
+    Always evaluated from the endpoints in the order (below, above), so the
+    two facets sharing an edge get the bit-identical point; an above corner on
+    the plane is returned exactly.
+
+    Examples
+    --------
+    >>> c = np.array([[[0.0, 0.0], [4.0, 0.0], [0.0, 4.0]]])
+    >>> edge_points(c, np.array([[-1.0, 3.0, 0.0]]), [0, 0], [0, 0], [1, 2]).tolist()
+    [[1.0, 0.0], [0.0, 4.0]]
+    """
+    db, da = dist[rows, below], dist[rows, above]
+    pb, pa = corners[rows, below], corners[rows, above]
+    t = (db / (db - da))[:, None]
+    return np.where((da == 0)[:, None], pa, pb + t * (pa - pb))
+
+
 def _cut(corners3: np.ndarray, corners2: np.ndarray, dist: np.ndarray, plane: np.ndarray):
     """Cut facet/plane pairs whose corners straddle the plane.
 
@@ -241,32 +290,20 @@ def _cut(corners3: np.ndarray, corners2: np.ndarray, dist: np.ndarray, plane: np
 
     Returns segments (s, 2, 2), start and end topological keys (s,), plane (s,).
     """
-    p = len(dist)
-    above = dist >= 0
-    nxt_corner = np.array([1, 2, 0])
-    a_next = above[:, nxt_corner]
-    down = np.argmax(above & ~a_next, axis=1)   # edge i -> i+1 going above -> below
-    up = np.argmax(~above & a_next, axis=1)     # edge i -> i+1 going below -> above
-    rows = np.arange(p)
-    # (below, above) corner of each crossing edge: canonical order for both facets of the edge.
-    b_start, a_start = nxt_corner[down], down
-    b_end, a_end = up, nxt_corner[up]
+    down, up = crossing_edges(dist)
+    rows = np.arange(len(dist))
+    b_start, a_start = _NEXT[down], down
+    b_end, a_end = up, _NEXT[up]
     # A facet whose only upper corner lies in the plane touches it at a point: no segment.
     keep = ~((a_start == a_end) & (dist[rows, a_start] == 0))
     if not keep.all():
         rows, b_start, a_start, b_end, a_end = (x[keep] for x in (rows, b_start, a_start, b_end, a_end))
-
-    def point(b, a):
-        db, da = dist[rows, b], dist[rows, a]
-        pb, pa = corners2[rows, b], corners2[rows, a]
-        t = (db / (db - da))[:, None]
-        return np.where((da == 0)[:, None], pa, pb + t * (pa - pb)), da == 0
-
-    p0, v0 = point(b_start, a_start)
-    p1, v1 = point(b_end, a_end)
+    p0 = edge_points(corners2, dist, rows, b_start, a_start)
+    p1 = edge_points(corners2, dist, rows, b_end, a_end)
 
     # Key rows: [is-edge, above xyz, below xyz (zero for a vertex key), plane].
-    def key_rows(b, a, on_vertex):
+    def key_rows(b, a):
+        on_vertex = dist[rows, a] == 0
         k = np.zeros((len(rows), 8))
         k[:, 0] = ~on_vertex
         k[:, 1:4] = corners3[rows, a]
@@ -274,7 +311,7 @@ def _cut(corners3: np.ndarray, corners2: np.ndarray, dist: np.ndarray, plane: np
         k[:, 7] = plane[rows]
         return k
 
-    ids, _ = exact_ids(np.concatenate([key_rows(b_start, a_start, v0), key_rows(b_end, a_end, v1)]))
+    ids, _ = exact_ids(np.concatenate([key_rows(b_start, a_start), key_rows(b_end, a_end)]))
     s = len(rows)
     seg = np.stack([p0, p1], axis=1)
     nonzero = np.any(p0 != p1, axis=1)  # guards against degenerate facets with repeated corners
@@ -305,6 +342,34 @@ def _frame_coords(frame: Frame, corners: np.ndarray) -> np.ndarray:
     return frame.to_2d(corners)
 
 
+def plane_distances(frame: Frame, triangles: np.ndarray) -> np.ndarray:
+    """Signed distance of every corner to the plane, (n, 3); exact for horizontal planes.
+
+    Examples
+    --------
+    >>> f = Frame.from_plane((0, 0, 1), (0, 0, -1))
+    >>> plane_distances(f, np.array([[[0, 0, 0], [0, 0, 1], [0, 0, 3]]], float)).tolist()
+    [[1.0, -0.0, -2.0]]
+    """
+    if frame.horizontal:
+        return (triangles[..., 2] - frame.origin[2]) * frame.normal[2]
+    return frame.distances(triangles)
+
+
+def _straddling(dist: np.ndarray) -> np.ndarray:
+    below = dist < 0
+    return np.flatnonzero(below.any(axis=1) & ~below.all(axis=1))
+
+
+def section_from_distances(frame: Frame, triangles: np.ndarray, dist: np.ndarray,
+                           max_gap: float = 1.0) -> Section:
+    """`section` from corner distances already computed (shared with `slicelab.split`)."""
+    cross = _straddling(dist)
+    c3 = triangles[cross]
+    seg, s_id, e_id, _ = _cut(c3, _frame_coords(frame, c3), dist[cross], np.zeros(len(cross)))
+    return _assemble(frame, seg, s_id, e_id, max_gap)
+
+
 def section(mesh: Mesh, origin, normal, *, max_gap: float = 1.0) -> Section:
     """Cut a mesh with any plane.
 
@@ -331,13 +396,7 @@ def section(mesh: Mesh, origin, normal, *, max_gap: float = 1.0) -> Section:
     (1, 6.0)
     """
     frame = Frame.from_plane(origin, normal)
-    t = mesh.triangles
-    dist = frame.distances(t) if not frame.horizontal else (t[..., 2] - frame.origin[2]) * frame.normal[2]
-    below = dist < 0
-    cross = np.flatnonzero(below.any(axis=1) & ~below.all(axis=1))
-    c3 = t[cross]
-    seg, s_id, e_id, _ = _cut(c3, _frame_coords(frame, c3), dist[cross], np.zeros(len(cross)))
-    return _assemble(frame, seg, s_id, e_id, max_gap)
+    return section_from_distances(frame, mesh.triangles, plane_distances(frame, mesh.triangles), max_gap)
 
 
 def layer_heights(mesh: Mesh, layer_height: float) -> np.ndarray:
