@@ -93,7 +93,72 @@ def _run_inspect(args) -> int:
     return status
 
 
-COMMANDS = ["inspect"]
+# --------------------------------------------------------------------- section
+def _add_section(sub) -> None:
+    p = sub.add_parser("section", help="cut a mesh with one plane and draw the section as SVG",
+                       description="Cut FILE with a plane; write the section as a true-scale SVG (mm).")
+    p.add_argument("file", type=Path, metavar="FILE")
+    _add_plane_arguments(p)
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="OUT.svg")
+    p.add_argument("--max-gap", type=float, default=1.0, metavar="MM",
+                   help="join open chains whose ends are this close (default 1 mm; 0 disables)")
+
+
+def _run_section(args) -> int:
+    from .io import load
+    from .sections import section
+    origin, normal = _plane(args)
+    t0 = time.perf_counter()
+    mesh = load(args.file)
+    t1 = time.perf_counter()
+    s = section(mesh, origin, normal, max_gap=args.max_gap)
+    t2 = time.perf_counter()
+    s.to_svg(args.output)
+    holes = int(np.count_nonzero(s.loop_depth % 2 == 1)) if len(s.loops) else 0
+    print(f"{args.file}: {len(mesh)} facets; section: {len(s.segments)} segments, {len(s.loops)} loops "
+          f"({holes} holes), {len(s.open_chains)} open chains, {len(s.joined_gaps)} gaps joined, "
+          f"area {s.area:.6g} mm2")
+    print(f"load {t1 - t0:.2f} s, section {t2 - t1:.2f} s; wrote {args.output}")
+    return 0
+
+
+# ---------------------------------------------------------------------- layers
+def _add_layers(sub) -> None:
+    p = sub.add_parser("layers", help="slice a mesh into horizontal layers (SVG per layer + JSON)",
+                       description="Slice FILE at mid-layer heights; write one SVG per layer and "
+                                   "layers.json with every loop.")
+    p.add_argument("file", type=Path, metavar="FILE")
+    p.add_argument("--layer-height", type=_positive, required=True, metavar="H")
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="DIR")
+    p.add_argument("--max-gap", type=float, default=1.0, metavar="MM",
+                   help="join open chains whose ends are this close (default 1 mm; 0 disables)")
+
+
+def _run_layers(args) -> int:
+    from .io import load
+    from .sections import slice_layers
+    if args.output.exists() and not args.output.is_dir():
+        raise UsageError(f"{args.output} exists and is not a directory")
+    t0 = time.perf_counter()
+    mesh = load(args.file)
+    t1 = time.perf_counter()
+    layers = slice_layers(mesh, args.layer_height, max_gap=args.max_gap)
+    t2 = time.perf_counter()
+    args.output.mkdir(parents=True, exist_ok=True)
+    width = max(4, len(str(len(layers))))
+    for k, s in enumerate(layers):
+        s.to_svg(args.output / f"layer_{k:0{width}d}_z{s.z:.3f}.svg")
+    with atomic_open(args.output / "layers.json", "w", encoding="utf-8") as fh:
+        json.dump({"file": str(args.file), "layer_height": args.layer_height,
+                   "layers": [{"index": k, "z": s.z, **s.to_dict()} for k, s in enumerate(layers)]}, fh)
+    n_open = sum(len(s.open_chains) for s in layers)
+    print(f"{args.file}: {len(mesh)} facets; {len(layers)} layers, "
+          f"{sum(len(s.loops) for s in layers)} loops, {n_open} open chains")
+    print(f"load {t1 - t0:.2f} s, slice {t2 - t1:.2f} s; wrote {args.output}/")
+    return 0
+
+
+COMMANDS = ["inspect", "section", "layers"]
 
 
 def build_parser() -> argparse.ArgumentParser:

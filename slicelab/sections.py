@@ -313,27 +313,32 @@ def _cut(corners3: np.ndarray, corners2: np.ndarray, dist: np.ndarray, plane: np
 
     ids, _ = exact_ids(np.concatenate([key_rows(b_start, a_start), key_rows(b_end, a_end)]))
     s = len(rows)
-    seg = np.stack([p0, p1], axis=1)
-    nonzero = np.any(p0 != p1, axis=1)  # guards against degenerate facets with repeated corners
-    return seg[nonzero], ids[:s][nonzero], ids[s:][nonzero], plane[rows][nonzero]
+    # Segments that round to zero length (a corner a hair off the plane, two crossing edges
+    # whose points round to that corner) are kept: chaining needs their keys. `_assemble`
+    # drops them once the loops are known.
+    return np.stack([p0, p1], axis=1), ids[:s], ids[s:], plane[rows]
 
 
 def _assemble(frame: Frame, segments, start_id, end_id, max_gap: float) -> Section:
     chains = chain_segments(start_id, end_id)
     loops, open_chains = [], []
     starts = segments[:, 0]
+    nonzero = np.any(segments[:, 0] != segments[:, 1], axis=1)
     for k in range(len(chains)):  # over chains, not segments
         idx = chains.order[chains.bounds[k]:chains.bounds[k + 1]]
+        last = segments[idx[-1], 1]
+        idx = idx[nonzero[idx]]
         if chains.closed[k]:
-            loops.append(starts[idx])
-        else:
-            open_chains.append(np.vstack([starts[idx], segments[idx[-1], 1]]))
+            if len(idx) >= 3:
+                loops.append(starts[idx])
+        elif len(idx):
+            open_chains.append(np.vstack([starts[idx], last]))
     gaps = np.zeros(0)
     if open_chains and max_gap > 0:
         closed, open_chains, gaps = join_open_chains(open_chains, max_gap)
         loops += closed
     depth, parent = loop_hierarchy(loops)
-    return Section(frame, segments, loops, open_chains, gaps, depth, parent)
+    return Section(frame, segments[nonzero], loops, open_chains, gaps, depth, parent)
 
 
 def _frame_coords(frame: Frame, corners: np.ndarray) -> np.ndarray:
