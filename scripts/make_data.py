@@ -43,7 +43,8 @@ def write(name: str, make, folder: Path, force: bool) -> None:
     t0 = time.perf_counter()
     mesh = make()
     save(mesh, path)
-    print(f"wrote {path.relative_to(ROOT)}: {len(mesh)} facets in {time.perf_counter() - t0:.1f} s")
+    shown = path.relative_to(ROOT) if path.is_relative_to(ROOT) else path
+    print(f"wrote {shown}: {len(mesh)} facets in {time.perf_counter() - t0:.1f} s")
 
 
 def main(argv=None) -> int:

@@ -142,6 +142,9 @@ def _read_ascii(p: Path):
     # numpy-stl matches keywords literally ("outer loop"), so fold runs of spaces,
     # tabs and CRs into one space before handing the text over.
     text = b"\n".join(line.strip() for line in _WS.sub(b" ", raw).split(b"\n") if line.strip())
+    tail = text.rsplit(b"\n", 1)[-1].lower() if text else b""
+    if not tail.startswith(b"endsolid") and not tail.startswith(b"end solid"):
+        raise MeshFileError(p, "malformed ASCII STL (no closing 'endsolid': truncated?)")
     vectors, normals = [], []
     try:
         for part in stl_mesh.Mesh.from_multi_file(str(p), calculate_normals=False,
@@ -153,9 +156,6 @@ def _read_ascii(p: Path):
         reason = str(exc.args[-1] if isinstance(exc, RuntimeError) and exc.args else exc)
         reason = reason.replace("\n", " ")[:200]
         raise MeshFileError(p, f"malformed ASCII STL ({reason})") from None
-    tail = text.rsplit(b"\n", 1)[-1].lower() if text else b""
-    if not tail.startswith(b"endsolid") and not tail.startswith(b"end solid"):
-        raise MeshFileError(p, "malformed ASCII STL (no closing 'endsolid': truncated?)")
     n_facets = len(re.findall(rb"(?im)^facet\b", text))
     n_vertices = len(re.findall(rb"(?im)^vertex\b", text))
     got = sum(len(v) for v in vectors)
@@ -258,3 +258,7 @@ def save(mesh: Mesh, path, ascii: bool = False) -> None:
         with open(tmp, "wb") as fh:
             m.save(target.stem or "slicelab", fh=fh, mode=Mode.ASCII if ascii else Mode.BINARY,
                    update_normals=False)
+        if not ascii:
+            # numpy-stl stamps the header with the time; a fixed header keeps outputs reproducible.
+            with open(tmp, "r+b") as fh:
+                fh.write(f"slicelab {target.stem}".encode("ascii", "replace")[:80].ljust(80, b" "))
