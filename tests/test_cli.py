@@ -1,0 +1,73 @@
+"""The command line: help, version, outputs, and one-line errors with exit status 2."""
+import json
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+
+import pytest
+
+import slicelab
+from slicelab.cli import COMMANDS, main
+
+
+def run(*args):
+    return subprocess.run([sys.executable, "-m", "slicelab", *map(str, args)], capture_output=True, text=True)
+
+
+def test_version():
+    r = run("--version")
+    assert r.returncode == 0 and r.stdout.strip() == f"slicelab {slicelab.__version__}"
+
+
+@pytest.mark.parametrize("command", COMMANDS)
+def test_every_command_has_help(command, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main([command, "--help"])
+    assert exc.value.code == 0
+    assert "usage: slicelab " + command in capsys.readouterr().out
+
+
+def test_inspect_json_reports_each_file(data_dir):
+    r = run("inspect", data_dir / "nested_shells.stl", data_dir / "torus.stl", "--json")
+    assert r.returncode == 0
+    rows = [json.loads(line) for line in r.stdout.splitlines()]
+    assert [row["n_shells"] for row in rows] == [3, 1]
+    assert all(row["watertight"] for row in rows)
+
+
+def test_inspect_carries_on_past_a_bad_file_and_exits_2(data_dir, tmp_path):
+    bad = tmp_path / "bad.stl"
+    bad.write_text("not a mesh")
+    r = run("inspect", bad, data_dir / "sphere.stl")
+    assert r.returncode == 2 and "facets            9024" in r.stdout
+    assert r.stderr.count("\n") == 1 and "bad.stl" in r.stderr
+
+
+def test_section_writes_svg(data_dir, tmp_path):
+    out = tmp_path / "pot.svg"
+    r = run("section", data_dir / "pot.stl", "--origin", "0,0,0", "--normal", "0,-1,0", "-o", out)
+    assert r.returncode == 0, r.stderr
+    assert "1 loops" in r.stdout and "0 open chains" in r.stdout
+    assert ET.parse(out).getroot().tag.endswith("svg")
+
+
+def test_layers_writes_svgs_and_json(data_dir, tmp_path):
+    r = run("layers", data_dir / "cube_with_hole.stl", "--layer-height", "5", "-o", tmp_path / "L")
+    assert r.returncode == 0, r.stderr
+    doc = json.loads((tmp_path / "L" / "layers.json").read_text())
+    assert [round(layer["z"], 9) for layer in doc["layers"]] == [2.5, 7.5, 12.5, 17.5]
+    assert all(len(layer["loops"]) == 2 for layer in doc["layers"])
+    assert len(list((tmp_path / "L").glob("layer_*.svg"))) == 4
+
+
+@pytest.mark.parametrize("args, message", [
+    (["section", "{f}", "-o", "{o}"], "give a plane"),
+    (["section", "{f}", "--z", "1", "--normal", "1,0,0", "-o", "{o}"], "not both"),
+    (["section", "{f}", "--origin", "0,0,0", "--normal", "0,0,0", "-o", "{o}"], "zero vector"),
+    (["section", "{f}", "--origin", "0,0", "--normal", "0,0,1", "-o", "{o}"], "three"),
+    (["layers", "{f}", "--layer-height", "-1", "-o", "{o}"], "positive"),
+])
+def test_bad_arguments_exit_2_with_one_line(data_dir, tmp_path, args, message):
+    r = run(*[a.format(f=data_dir / "torus.stl", o=tmp_path / "out") for a in args])
+    assert r.returncode == 2 and message in r.stderr and "Traceback" not in r.stderr
+    assert not (tmp_path / "out").exists()
