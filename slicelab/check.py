@@ -5,13 +5,14 @@ the mesh as stored, with no tolerance that could hide or invent a defect.
 """
 from __future__ import annotations
 
+from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict, dataclass
 
 import numpy as np
 from scipy.sparse import coo_matrix
 from scipy.sparse.csgraph import connected_components
 
-from .mesh import Mesh
+from .mesh import Mesh, edge_cross
 from .topology import edge_table, weld
 
 __all__ = ["MeshReport", "check", "signed_volume"]
@@ -90,11 +91,12 @@ class MeshReport:
         return "\n".join(lines)
 
 
-def signed_volume(triangles: np.ndarray) -> float:
+def signed_volume(triangles: np.ndarray, cross: np.ndarray | None = None) -> float:
     """Signed volume enclosed by triangles (divergence theorem).
 
     Corners are taken relative to the bounding-box centre, which keeps the
-    sum accurate for parts far from the origin.
+    sum accurate for parts far from the origin. `cross`, the facets'
+    ``(v1 - v0) x (v2 - v0)``, may be passed when already computed.
 
     Examples
     --------
@@ -107,10 +109,32 @@ def signed_volume(triangles: np.ndarray) -> float:
     t = np.asarray(triangles, dtype=np.float64)
     if len(t) == 0:
         return 0.0
-    flat = t.reshape(-1, 3)
-    c = (flat.min(axis=0) + flat.max(axis=0)) / 2
-    a, b, d = t[:, 0] - c, t[:, 1] - c, t[:, 2] - c
-    return float(np.einsum("ij,ij->", a, np.cross(b, d)) / 6.0)
+    c = t[:, 0].min(axis=0) / 2 + t[:, 0].max(axis=0) / 2
+    if cross is None:
+        cross = edge_cross(t)
+    # det[v0 - c, v1 - c, v2 - c] = (v0 - c) . ((v1 - v0) x (v2 - v0))
+    return float(np.einsum("ij,ij->", t[:, 0] - c, cross) / 6.0)
+
+
+def _topology(t: np.ndarray) -> tuple[int, int, int, int, int]:
+    """Welded vertices, open / non-manifold / misoriented edges and shells."""
+    n = len(t)
+    vertices, faces = weld(t)
+    et = edge_table(faces)
+    counts = et["counts"]
+    n_open = int(np.count_nonzero(counts == 1))
+    n_nonmanifold = int(np.count_nonzero(counts > 2))
+    # A two-facet edge is consistent when one facet walks it forward, the other backward.
+    fwd = np.bincount(et["inverse"], weights=et["forward"], minlength=len(counts))
+    n_misoriented = int(np.count_nonzero((counts == 2) & (fwd != 1)))
+    # Shells: every facet edge links its facet to the facet that used that edge first.
+    half = np.arange(3 * n)
+    other = et["first"][et["inverse"]]
+    link = other != half
+    graph = coo_matrix((np.ones(int(link.sum()), dtype=np.int8), (half[link] // 3, other[link] // 3)),
+                       shape=(n, n))
+    n_shells, _ = connected_components(graph, directed=False)
+    return len(vertices), n_open, n_nonmanifold, n_misoriented, int(n_shells)
 
 
 def check(mesh: Mesh) -> MeshReport:
@@ -138,46 +162,33 @@ def check(mesh: Mesh) -> MeshReport:
     if n == 0:
         z = (0.0, 0.0, 0.0)
         return MeshReport(0, 0, 0, 0, 0, 0, 0, 0, 0.0, 0.0, False, (z, z))
-    e1 = t[:, 1] - t[:, 0]
-    e2 = t[:, 2] - t[:, 0]
-    cross = np.cross(e1, e2)
-    double_area = np.sqrt(np.einsum("ij,ij->i", cross, cross))
-    e3 = e2 - e1
-    longest2 = np.maximum(np.maximum(np.einsum("ij,ij->i", e1, e1), np.einsum("ij,ij->i", e2, e2)),
-                          np.einsum("ij,ij->i", e3, e3))
-    # Zero area up to rounding: relative to the facet's own size, not the part's.
-    degenerate = double_area <= 1e-12 * longest2
-    flipped = np.einsum("ij,ij->i", mesh.file_normals, mesh.normals) < 0
-
-    vertices, faces = weld(t)
-    et = edge_table(faces)
-    counts = et["counts"]
-    n_open = int(np.count_nonzero(counts == 1))
-    n_nonmanifold = int(np.count_nonzero(counts > 2))
-
-    # A two-facet edge is consistent when one facet walks it forward, the other backward.
-    fwd = np.bincount(et["inverse"], weights=et["forward"], minlength=len(counts))
-    n_misoriented = int(np.count_nonzero((counts == 2) & (fwd != 1)))
-
-    # Shells: every facet edge links its facet to the facet that used that edge first.
-    half = np.arange(3 * n)
-    other = et["first"][et["inverse"]]
-    link = other != half
-    graph = coo_matrix((np.ones(int(link.sum()), dtype=np.int8), (half[link] // 3, other[link] // 3)),
-                       shape=(n, n))
-    n_shells, _ = connected_components(graph, directed=False)
+    # Welding and the edge table (sorting) run in a worker thread while this thread measures
+    # the facets: numpy releases the GIL, so the two cores share the work.
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        topo = pool.submit(_topology, t)
+        cross = edge_cross(t)
+        double_area = np.sqrt(np.einsum("ij,ij->i", cross, cross))
+        longest2 = np.zeros(n)
+        for i, j in ((0, 1), (1, 2), (2, 0)):
+            e = t[:, j] - t[:, i]
+            np.maximum(longest2, np.einsum("ij,ij->i", e, e), out=longest2)
+        # Zero area up to rounding: relative to the facet's own size, not the part's.
+        n_degenerate = int(np.count_nonzero(double_area <= 1e-12 * longest2))
+        n_flipped = int(np.count_nonzero(np.einsum("ij,ij->i", mesh.file_normals, mesh.normals) < 0))
+        volume = signed_volume(t, cross)
+        n_vertices, n_open, n_nonmanifold, n_misoriented, n_shells = topo.result()
 
     lo, hi = mesh.bounds
     return MeshReport(
         n_facets=n,
-        n_vertices=len(vertices),
-        n_degenerate=int(np.count_nonzero(degenerate)),
-        n_flipped_normals=int(np.count_nonzero(flipped)),
+        n_vertices=n_vertices,
+        n_degenerate=n_degenerate,
+        n_flipped_normals=n_flipped,
         n_open_edges=n_open,
         n_nonmanifold_edges=n_nonmanifold,
         n_misoriented_edges=n_misoriented,
-        n_shells=int(n_shells),
-        volume=signed_volume(t),
+        n_shells=n_shells,
+        volume=volume,
         area=float(double_area.sum() / 2),
         watertight=bool(n_open == 0 and n_nonmanifold == 0),
         bounds=(tuple(map(float, lo)), tuple(map(float, hi))),

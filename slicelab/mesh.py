@@ -10,7 +10,27 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Mesh", "winding_normals"]
+__all__ = ["Mesh", "winding_normals", "edge_cross"]
+
+
+def edge_cross(t: np.ndarray) -> np.ndarray:
+    """``(v1 - v0) x (v2 - v0)`` of each triangle, (n, 3): twice the area along the normal.
+
+    Written out by component, which is several times faster than ``np.cross``
+    on millions of rows.
+
+    Examples
+    --------
+    >>> edge_cross(np.array([[[0, 0, 0], [2, 0, 0], [0, 3, 0]]], float)).tolist()
+    [[0.0, 0.0, 6.0]]
+    """
+    ax, ay, az = (t[:, 1, k] - t[:, 0, k] for k in range(3))
+    bx, by, bz = (t[:, 2, k] - t[:, 0, k] for k in range(3))
+    out = np.empty((len(t), 3))
+    np.subtract(ay * bz, az * by, out=out[:, 0])
+    np.subtract(az * bx, ax * bz, out=out[:, 1])
+    np.subtract(ax * by, ay * bx, out=out[:, 2])
+    return out
 
 
 def winding_normals(triangles: np.ndarray) -> np.ndarray:
@@ -33,7 +53,7 @@ def winding_normals(triangles: np.ndarray) -> np.ndarray:
     array([[0., 0., 1.]])
     """
     t = np.asarray(triangles, dtype=np.float64)
-    n = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
+    n = edge_cross(t)
     length = np.sqrt(np.einsum("ij,ij->i", n, n))
     # Degenerate facets keep a zero normal rather than NaN, as seed 002 does.
     np.divide(n, length[:, None], out=n, where=length[:, None] > 0)
@@ -102,7 +122,8 @@ class Mesh:
     def bounds(self) -> np.ndarray:
         """(2, 3) array: minimum and maximum corner of the bounding box."""
         flat = self.triangles.reshape(-1, 3)
-        return np.stack([flat.min(axis=0), flat.max(axis=0)])
+        # Column by column: numpy reduces a strided column far faster than axis=0 of (n, 3).
+        return np.array([[flat[:, k].min() for k in range(3)], [flat[:, k].max() for k in range(3)]])
 
     @classmethod
     def from_triangles(cls, triangles, file_normals=None) -> "Mesh":

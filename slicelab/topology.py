@@ -66,6 +66,8 @@ def exact_ids(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     (True, True, [0, 1])
     """
     rows = np.ascontiguousarray(rows)
+    if rows.ndim == 1:
+        rows = rows[:, None]
     if rows.dtype.kind == "f":
         rows = np.ascontiguousarray(rows.astype(np.float64, copy=False) + 0.0)  # folds -0.0 into 0.0
     else:
@@ -86,19 +88,22 @@ def exact_ids(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     np.not_equal(hs[1:], hs[:-1], out=new[1:])
     group = np.cumsum(new) - 1
     # Within a hash group every row must equal its neighbour; a mismatch is a collision.
-    clash = ~new[1:] & np.any(srt[1:] != srt[:-1], axis=1)
+    diff = srt[1:] != srt[:-1]
+    clash = ~new[1:] & (diff.any(axis=1) if diff.ndim == 2 else diff)
     if clash.any():
-        bad_groups = np.unique(group[1:][clash])
-        bad = np.isin(group, bad_groups)
+        # Truncated hashes collide now and then in big tables: renumber only those groups, exactly.
+        bad_group = np.zeros(int(group[-1]) + 1, dtype=bool)
+        bad_group[group[1:][clash]] = True
+        bad = bad_group[group]
         _, sub = np.unique(srt[bad], axis=0, return_inverse=True)
         n_groups = int(group[-1]) + 1
         group[bad] = n_groups + sub.reshape(-1)
-        _, group = np.unique(group, return_inverse=True)
-        group = group.reshape(-1)
+        used = np.zeros(n_groups + int(sub.max()) + 1, dtype=bool)
+        used[group] = True
+        group = (np.cumsum(used) - 1)[group]
     ids = np.empty(m, dtype=np.int64)
     ids[order] = group
-    n_ids = int(group.max()) + 1
-    first = np.full(n_ids, m, dtype=np.int64)
+    first = np.full(int(group.max()) + 1, m, dtype=np.int64)
     np.minimum.at(first, group, order) if clash.any() else None
     if not clash.any():
         first = order[new]  # rows of a group are sorted by index: the group's first is its lowest
@@ -154,6 +159,10 @@ def edge_table(faces: np.ndarray) -> dict[str, np.ndarray]:
     f = np.asarray(faces, dtype=np.int64)
     a = f.reshape(-1)
     b = f[:, [1, 2, 0]].reshape(-1)
-    inverse, first = exact_ids(np.stack([np.minimum(a, b), np.maximum(a, b)], axis=1))
+    nv = int(f.max()) + 1 if f.size else 1
+    if nv < 3_000_000_000:  # (lo, hi) packs into one int64 exactly
+        inverse, first = exact_ids(np.minimum(a, b) * nv + np.maximum(a, b))
+    else:
+        inverse, first = exact_ids(np.stack([np.minimum(a, b), np.maximum(a, b)], axis=1))
     counts = np.bincount(inverse, minlength=len(first))
     return {"inverse": inverse, "first": first, "counts": counts, "forward": a < b}
