@@ -41,9 +41,11 @@ def main() -> int:
             return result.returncode
         print(f"   ({time.perf_counter() - t0:.1f} s)")
     print(f"\nresults in {OUT.relative_to(ROOT)}/:")
-    for p in sorted(OUT.rglob("*"))[:40]:
-        if p.is_file():
-            print("  ", p.relative_to(ROOT))
+    for p in sorted(OUT.iterdir()):
+        if p.is_dir():
+            print(f"   {p.relative_to(ROOT)}/ ({sum(1 for q in p.rglob('*') if q.is_file())} files)")
+        else:
+            print(f"   {p.relative_to(ROOT)}")
     return 0
 
 
