@@ -1,0 +1,82 @@
+"""Helpers shared by ``scripts/bench_*.py``: one measurement per child process.
+
+Every measurement runs in a fresh Python process, so its peak memory (read
+with ``os.wait4``, which reports that child's own rusage) is not contaminated
+by earlier measurements, and no cache warmed by one tool helps the next.
+Times are taken inside the child around the measured call only (interpreter
+start-up and imports are not counted); the file is read once beforehand so
+every tool reads it from the page cache.
+"""
+from __future__ import annotations
+
+import json
+import os
+import statistics
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+LARGE = ROOT / "data" / "large"
+LARGE_FILES = ("torus_1m.stl", "torus_5m.stl", "pot_5m.stl")
+CHILD_FLAG = "--child"
+
+
+def ensure_large_data() -> None:
+    """Write data/large/ with scripts/make_data.py if any file is missing."""
+    if all((LARGE / name).exists() for name in LARGE_FILES):
+        return
+    print("data/large/ incomplete: running scripts/make_data.py --large", flush=True)
+    subprocess.run([sys.executable, str(ROOT / "scripts" / "make_data.py"), "--large"], check=True)
+
+
+def warm(path: Path) -> None:
+    """Read a file once so that every measurement finds it in the page cache."""
+    with open(path, "rb") as fh:
+        while fh.read(1 << 24):
+            pass
+
+
+def run_child(script: str, *args: str) -> dict:
+    """Run ``python script --child args...`` and return its JSON result plus ``peak_mb``.
+
+    ``peak_mb`` is the child's peak resident set size (MiB), read from the
+    rusage of that child alone.
+    """
+    cmd = [sys.executable, script, CHILD_FLAG, *args]
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, text=True, cwd=ROOT)
+    out = proc.stdout.read()
+    proc.stdout.close()
+    _, status, usage = os.wait4(proc.pid, 0)
+    proc.returncode = os.waitstatus_to_exitcode(status)  # we reaped it ourselves
+    if proc.returncode != 0:
+        raise RuntimeError(f"measurement failed ({proc.returncode}): {' '.join(cmd[1:])}")
+    result = json.loads(out.strip().splitlines()[-1])
+    result["peak_mb"] = usage.ru_maxrss / 1024  # Linux reports KiB
+    return result
+
+
+def measure(script: str, *args: str, repeat: int = 1) -> dict:
+    """`run_child` `repeat` times: median of ``seconds``, largest ``peak_mb``."""
+    runs = [run_child(script, *args) for _ in range(repeat)]
+    out = dict(runs[-1])
+    out["seconds"] = statistics.median(r["seconds"] for r in runs)
+    out["all_seconds"] = [r["seconds"] for r in runs]
+    out["peak_mb"] = max(r["peak_mb"] for r in runs)
+    return out
+
+
+def child_report(seconds: float, **extra) -> None:
+    """Print the child's result as one JSON line (the parent reads the last line)."""
+    import resource
+    extra["seconds"] = seconds
+    extra["self_peak_mb"] = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss / 1024
+    print(json.dumps(extra), flush=True)
+
+
+def mark(ok: bool) -> str:
+    return "PASS" if ok else "MISS"
+
+
+NOISE_NOTE = ("Timings come from a shared 2-core machine (other jobs may run at the same time): "
+              "treat them as noisy, compare ratios from the same run.")
