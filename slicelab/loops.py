@@ -47,6 +47,14 @@ def _match(start_key: np.ndarray, end_key: np.ndarray) -> np.ndarray:
     the k-th arrival is paired with the k-th departure.
     """
     m = len(start_key)
+    n_keys = int(max(start_key.max(), end_key.max())) + 1 if m else 0
+    if n_keys <= 4 * m + 16:
+        count_s = np.bincount(start_key, minlength=n_keys)
+        if count_s.max() <= 1 and np.bincount(end_key, minlength=n_keys).max() <= 1:
+            # Dense keys met at most once (the common case): a lookup table, no sort.
+            seg_of = np.full(n_keys, -1, dtype=np.int64)
+            seg_of[start_key] = np.arange(m)
+            return seg_of[end_key]
     os_ = np.argsort(start_key, kind="stable")
     oe = np.argsort(end_key, kind="stable")
     ss, se = start_key[os_], end_key[oe]
@@ -109,9 +117,11 @@ def chain_segments(start_key: np.ndarray, end_key: np.ndarray) -> Chains:
         jump[active] = jump[j]
         active = active[jump[active] >= 0]
 
-    order = np.lexsort((-dist, comp))
+    # Chain after chain, each from its head (largest distance to the end) to its tail: a scatter.
     counts = np.bincount(comp, minlength=n_comp)
     bounds = np.concatenate([[0], np.cumsum(counts)])
+    order = np.empty(m, dtype=np.int64)
+    order[bounds[comp] + counts[comp] - 1 - dist] = np.arange(m)
     return Chains(order.astype(np.int64), bounds.astype(np.int64), ~is_open)
 
 

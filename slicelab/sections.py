@@ -319,26 +319,37 @@ def _cut(corners3: np.ndarray, corners2: np.ndarray, dist: np.ndarray, plane: np
     return np.stack([p0, p1], axis=1), ids[:s], ids[s:], plane[rows]
 
 
-def _assemble(frame: Frame, segments, start_id, end_id, max_gap: float) -> Section:
+def _assemble(frames: list[Frame], segments, start_id, end_id, seg_plane, max_gap: float) -> list[Section]:
+    """Chain the segments of every plane at once (keys never match across planes) and build
+    one Section per frame."""
     chains = chain_segments(start_id, end_id)
-    loops, open_chains = [], []
-    starts = segments[:, 0]
     nonzero = np.any(segments[:, 0] != segments[:, 1], axis=1)
+    starts = segments[:, 0]
+    loops = [[] for _ in frames]
+    open_chains = [[] for _ in frames]
+    chain_plane = seg_plane[chains.order[chains.bounds[:-1]]] if len(chains) else np.zeros(0, int)
     for k in range(len(chains)):  # over chains, not segments
         idx = chains.order[chains.bounds[k]:chains.bounds[k + 1]]
         last = segments[idx[-1], 1]
         idx = idx[nonzero[idx]]
+        plane = int(chain_plane[k])
         if chains.closed[k]:
             if len(idx) >= 3:
-                loops.append(starts[idx])
+                loops[plane].append(starts[idx])
         elif len(idx):
-            open_chains.append(np.vstack([starts[idx], last]))
-    gaps = np.zeros(0)
-    if open_chains and max_gap > 0:
-        closed, open_chains, gaps = join_open_chains(open_chains, max_gap)
-        loops += closed
-    depth, parent = loop_hierarchy(loops)
-    return Section(frame, segments[nonzero], loops, open_chains, gaps, depth, parent)
+            open_chains[plane].append(np.vstack([starts[idx], last]))
+    order = np.argsort(seg_plane, kind="stable")
+    cuts = np.searchsorted(seg_plane[order], np.arange(len(frames) + 1))
+    out = []
+    for k, frame in enumerate(frames):  # over planes
+        gaps = np.zeros(0)
+        if open_chains[k] and max_gap > 0:
+            closed, open_chains[k], gaps = join_open_chains(open_chains[k], max_gap)
+            loops[k] += closed
+        depth, parent = loop_hierarchy(loops[k])
+        idx = order[cuts[k]:cuts[k + 1]]
+        out.append(Section(frame, segments[idx[nonzero[idx]]], loops[k], open_chains[k], gaps, depth, parent))
+    return out
 
 
 def _frame_coords(frame: Frame, corners: np.ndarray) -> np.ndarray:
@@ -371,8 +382,8 @@ def section_from_distances(frame: Frame, triangles: np.ndarray, dist: np.ndarray
     """`section` from corner distances already computed (shared with `slicelab.split`)."""
     cross = _straddling(dist)
     c3 = triangles[cross]
-    seg, s_id, e_id, _ = _cut(c3, _frame_coords(frame, c3), dist[cross], np.zeros(len(cross)))
-    return _assemble(frame, seg, s_id, e_id, max_gap)
+    seg, s_id, e_id, plane = _cut(c3, _frame_coords(frame, c3), dist[cross], np.zeros(len(cross), np.int64))
+    return _assemble([frame], seg, s_id, e_id, plane, max_gap)[0]
 
 
 def section(mesh: Mesh, origin, normal, *, max_gap: float = 1.0) -> Section:
@@ -470,13 +481,7 @@ def slice_layers(mesh: Mesh, layer_height: float | None = None, *, heights=None,
     c3 = t[facet]
     dist = c3[..., 2] - planes[plane][:, None]
     seg, s_id, e_id, seg_plane = _cut(c3, c3[..., :2], dist, plane)
-
-    order = np.argsort(seg_plane, kind="stable")
-    cuts = np.searchsorted(seg_plane[order], np.arange(len(planes) + 1))
-    sections = []
-    for k, zk in enumerate(planes):  # over planes, not facets
-        idx = order[cuts[k]:cuts[k + 1]]
-        frame = Frame(np.array([0.0, 0.0, zk]), np.array([1.0, 0.0, 0.0]),
-                      np.array([0.0, 1.0, 0.0]), np.array([0.0, 0.0, 1.0]))
-        sections.append(_assemble(frame, seg[idx], s_id[idx], e_id[idx], max_gap))
+    frames = [Frame(np.array([0.0, 0.0, zk]), np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]),
+                    np.array([0.0, 0.0, 1.0])) for zk in planes]
+    sections = _assemble(frames, seg, s_id, e_id, seg_plane, max_gap)
     return [sections[i] for i in back]
