@@ -158,7 +158,57 @@ def _run_layers(args) -> int:
     return 0
 
 
-COMMANDS = ["inspect", "section", "layers"]
+# ----------------------------------------------------------------------- split
+def _add_split(sub) -> None:
+    p = sub.add_parser("split", help="split a mesh by a plane into front, section and rear",
+                       description="Cut FILE with a plane into the part in front (the side the normal "
+                                   "points to) and the part behind; write DIR/front.stl, DIR/rear.stl, "
+                                   "DIR/section.svg and DIR/preview.png.")
+    p.add_argument("file", type=Path, metavar="FILE")
+    _add_plane_arguments(p)
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="DIR")
+    p.add_argument("--visible-from", type=_vector, metavar="X,Y,Z",
+                   help="keep only the facets facing a viewer in this direction (as for a drawing)")
+    p.add_argument("--max-gap", type=float, default=1.0, metavar="MM",
+                   help="join open section chains whose ends are this close (default 1 mm; 0 disables)")
+    p.add_argument("--no-preview", action="store_true", help="do not draw preview.png")
+
+
+def _run_split(args) -> int:
+    from .io import load, save
+    from .split import split
+    origin, normal = _plane(args)
+    if args.visible_from is not None and not np.any(args.visible_from):
+        raise UsageError("--visible-from must not be the zero vector")
+    if args.output.exists() and not args.output.is_dir():
+        raise UsageError(f"{args.output} exists and is not a directory")
+    t0 = time.perf_counter()
+    mesh = load(args.file)
+    t1 = time.perf_counter()
+    s = split(mesh, origin, normal, visible_from=args.visible_from, max_gap=args.max_gap)
+    t2 = time.perf_counter()
+    args.output.mkdir(parents=True, exist_ok=True)
+    save(s.front, args.output / "front.stl")
+    save(s.rear, args.output / "rear.stl")
+    s.section.to_svg(args.output / "section.svg")
+    t3 = time.perf_counter()
+    if not args.no_preview:
+        from .preview import save_split_preview
+        save_split_preview(s, args.output / "preview.png")
+    t4 = time.perf_counter()
+    sec = s.section
+    print(f"{args.file}: {len(mesh)} facets: front {s.n_front} / cut {s.n_cut} / rear {s.n_rear} facets; "
+          f"front.stl {len(s.front)} facets, rear.stl {len(s.rear)} facets"
+          + (" (facing the viewer)" if args.visible_from is not None else ""))
+    print(f"section: {len(sec.segments)} segments, {len(sec.loops)} loops, {len(sec.open_chains)} open chains, "
+          f"area {sec.area:.6g} mm2")
+    print(f"load {t1 - t0:.2f} s, split {t2 - t1:.2f} s, write {t3 - t2:.2f} s"
+          + ("" if args.no_preview else f", preview {t4 - t3:.2f} s")
+          + f"; total {t4 - t0:.2f} s; wrote {args.output}/")
+    return 0
+
+
+COMMANDS = ["inspect", "section", "layers", "split"]
 
 
 def build_parser() -> argparse.ArgumentParser:
