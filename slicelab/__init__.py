@@ -24,6 +24,8 @@ __version__ = "0.1.0"
 _LAZY = {
     "Section": "sections", "Frame": "sections", "section": "sections", "slice_layers": "sections",
     "Split": "split", "split": "split",
+    "align": "artefacts", "Alignment": "artefacts", "profile": "artefacts", "Profile": "artefacts",
+    "Measurements": "artefacts", "run_batch": "batch",
 }
 
 __all__ = ["Mesh", "MeshFileError", "MeshReport", "check", "load", "save", "__version__", *_LAZY]

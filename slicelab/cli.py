@@ -208,7 +208,115 @@ def _run_split(args) -> int:
     return 0
 
 
-COMMANDS = ["inspect", "section", "layers", "split"]
+# --------------------------------------------------------------------- profile
+def _add_profile(sub) -> None:
+    p = sub.add_parser("profile", help="align a scanned vessel and draw its profile with measurements",
+                       description="Align FILE on its axis of revolution, cut it through the axis at "
+                                   "--planes angles, write the archaeological profile drawing (SVG, 1:1 in "
+                                   "mm) and print the measurements.")
+    p.add_argument("file", type=Path, metavar="FILE")
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="OUT.svg")
+    p.add_argument("--png", type=Path, metavar="OUT.png", help="also write the drawing as a PNG")
+    p.add_argument("--json", type=Path, metavar="OUT.json", help="also write measurements and outlines as JSON")
+    p.add_argument("--planes", type=int, default=12, metavar="N", help="planes through the axis (default 12)")
+    p.add_argument("--side", choices=("left", "right"), default="left",
+                   help="side of the axis for the section (default left; the exterior goes opposite)")
+    p.add_argument("--spread", action="store_true", help="draw every other half-section in grey")
+    p.add_argument("--no-align", action="store_true", help="the mesh is already aligned (axis +z, base z=0)")
+    p.add_argument("--max-gap", type=float, default=1.0, metavar="MM",
+                   help="join open section chains whose ends are this close (default 1 mm)")
+
+
+def _run_profile(args) -> int:
+    from .artefacts import profile
+    from .io import load
+    if args.planes < 1:
+        raise UsageError("--planes must be at least 1")
+    t0 = time.perf_counter()
+    mesh = load(args.file)
+    t1 = time.perf_counter()
+    p = profile(mesh, planes=args.planes, align=not args.no_align, max_gap=args.max_gap, name=args.file.name)
+    t2 = time.perf_counter()
+    p.to_svg(args.output, side=args.side, spread=args.spread)
+    if args.png:
+        p.to_png(args.png, side=args.side, spread=args.spread)
+    if args.json:
+        with atomic_open(args.json, "w", encoding="utf-8") as fh:
+            json.dump(p.to_dict(), fh)
+    t3 = time.perf_counter()
+    if p.alignment is not None:
+        print(f"{args.file}: {len(mesh)} facets; {p.alignment!r}")
+    print(p.measurements)
+    if not p.is_revolution:
+        print("warning: not a solid of revolution; the drawn half is not typical of the others")
+    print(f"load {t1 - t0:.2f} s, align + profile {t2 - t1:.2f} s, drawing {t3 - t2:.2f} s; wrote {args.output}")
+    return 0
+
+
+# ----------------------------------------------------------------------- batch
+def _add_batch(sub) -> None:
+    p = sub.add_parser("batch", help="run one task over every STL file under a folder (resumable)",
+                       description="Run --task on every *.stl under DIR: one JSON report per file "
+                                   "(input SHA-256, parameters, outputs, timings, status ok/warn/fail and "
+                                   "reasons) beside its outputs in OUT, and OUT/summary.csv. Files whose "
+                                   "report is up to date are skipped. Runs on local processes, or on a Dask "
+                                   "cluster given --scheduler (pip install 'slicelab[cluster]').")
+    p.add_argument("folder", type=Path, metavar="DIR")
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="OUT")
+    p.add_argument("--task", choices=("inspect", "section", "split", "profile", "layers"), required=True)
+    _add_plane_arguments(p)
+    t = p.add_argument_group("task options")
+    t.add_argument("--layer-height", type=_positive, metavar="H", help="layers: layer height (mm)")
+    t.add_argument("--planes", type=int, default=12, metavar="N", help="profile: planes through the axis")
+    t.add_argument("--side", choices=("left", "right"), default="left", help="profile: side of the section")
+    t.add_argument("--no-png", action="store_true", help="profile: SVG only")
+    t.add_argument("--max-gap", type=float, default=1.0, metavar="MM", help="join open chains this close")
+    t.add_argument("--min-size", type=float, default=2.0, metavar="MM",
+                   help="flag parts smaller than this as implausible (default 2 mm)")
+    t.add_argument("--max-size", type=float, default=5000.0, metavar="MM",
+                   help="flag parts larger than this as implausible (default 5000 mm)")
+    r = p.add_argument_group("running")
+    r.add_argument("--workers", type=int, metavar="N", help="local processes (default: CPU count; 1: in this process)")
+    r.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler, e.g. tcp://host:8786")
+    r.add_argument("--force", action="store_true", help="rerun files whose report is up to date")
+    r.add_argument("--retry-failed", action="store_true", help="rerun files whose report says fail")
+    r.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+
+def _run_batch(args) -> int:
+    from .batch import run_batch, task_parameters
+    if not args.folder.is_dir():
+        raise UsageError(f"{args.folder}: not a folder")
+    if args.workers is not None and args.workers < 1:
+        raise UsageError("--workers must be at least 1")
+    options = {}
+    if args.task in ("section", "split"):
+        if args.z is not None or args.origin is not None or args.normal is not None:
+            options["origin"], options["normal"] = _plane(args)
+    elif args.z is not None or args.origin is not None or args.normal is not None:
+        raise UsageError(f"the {args.task} task takes no plane")
+    if args.task == "layers":
+        if args.layer_height is None:
+            raise UsageError("the layers task needs --layer-height")
+        options["layer_height"] = args.layer_height
+    if args.task == "profile":
+        options.update(planes=args.planes, side=args.side, png=not args.no_png)
+    try:
+        params = task_parameters(args.task, max_gap=args.max_gap, min_size=args.min_size,
+                                 max_size=args.max_size, **options)
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    result = run_batch(args.folder, args.output, args.task, params, workers=args.workers,
+                       scheduler=args.scheduler, force=args.force, retry_failed=args.retry_failed,
+                       progress=False if args.no_progress else None)
+    print(result)
+    for rep in result.reports:
+        if rep["status"] != "ok":
+            print(f"  {rep['status']:<4} {rep['file']}: {'; '.join(r['message'] for r in rep['reasons'])}")
+    print(f"wrote {result.summary}")
+    return 1 if result.count("fail") else 0
+
+COMMANDS = ["inspect", "section", "layers", "split", "profile", "batch"]
 
 
 def build_parser() -> argparse.ArgumentParser:
