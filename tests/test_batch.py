@@ -1,0 +1,227 @@
+"""Batch runs: statuses and reasons, no lost report, resumable reruns, process pool and Dask give the same summary."""
+import csv
+import hashlib
+import json
+import os
+import sys
+import xml.etree.ElementTree as ET
+
+import numpy as np
+import pytest
+
+import slicelab
+from slicelab import Mesh, samples
+from slicelab.batch import find_stl_files, run_batch, task_parameters
+from slicelab.cli import main
+
+EXPECTED = {  # file -> (status, reason codes) for the profile task
+    "pot.stl": ("ok", []),
+    "vessels/bowl.stl": ("ok", []),
+    "vessels/deep/cup.STL": ("ok", []),
+    "cube.stl": ("warn", ["not_revolution"]),
+    "open_pot.stl": ("warn", ["not_watertight"]),
+    "nested.stl": ("warn", ["several_shells", "not_revolution"]),
+    "pot_in_metres.stl": ("warn", ["implausible_size"]),
+    "broken/truncated.stl": ("fail", ["unreadable"]),
+    "broken/photo.stl": ("fail", ["unreadable"]),
+    "broken/empty.stl": ("fail", ["unreadable"]),
+    "broken/no_closed_section.stl": ("fail", ["not_watertight", "task_error"]),
+}
+
+
+def _bowl():
+    z = np.linspace(0, 1, 13)
+    outer = np.column_stack([20 + 25 * np.sqrt(z), 40 * z])
+    inner = np.column_stack([17 + 25 * np.sqrt(z[::-1]), 4 + 36 * z[::-1]])
+    return samples.revolve(np.vstack([[[0, 0]], outer, inner, [[0, 4]]]), 48)
+
+
+@pytest.fixture(scope="module")
+def folder(tmp_path_factory):
+    d = tmp_path_factory.mktemp("scans")
+    pot = samples.pot(30, 36)
+    slicelab.save(pot, d / "pot.stl")
+    slicelab.save(_bowl(), d / "vessels" / "bowl.stl")
+    slicelab.save(samples.revolve([[0, 0], [30, 0], [30, 50], [27, 50], [27, 3], [0, 3]], 40),
+                  d / "vessels" / "deep" / "cup.STL")
+    slicelab.save(samples.box((0, 0, 0), (20, 20, 20)), d / "cube.stl")
+    keep = np.linalg.norm(pot.triangles.mean(axis=1) - [0, 55, 60], axis=1) > 12
+    slicelab.save(Mesh(pot.triangles[keep]), d / "open_pot.stl")
+    slicelab.save(samples.nested_shells(), d / "nested.stl")
+    slicelab.save(Mesh(pot.triangles / 1000), d / "pot_in_metres.stl")
+    raw = (d / "pot.stl").read_bytes()
+    (d / "broken").mkdir()
+    (d / "broken" / "truncated.stl").write_bytes(raw[: len(raw) // 2])
+    (d / "broken" / "photo.stl").write_bytes(b"\x89PNG\r\n\x1a\n" + bytes(200))
+    (d / "broken" / "empty.stl").write_bytes(b"")
+    upper = pot.triangles[pot.triangles[..., 2].min(axis=1) > 30]  # a ring of wall: no section closes
+    slicelab.save(Mesh(upper), d / "broken" / "no_closed_section.stl")
+    (d / "notes.txt").write_text("scanned 2024-05-01\n")
+    (d / "vessels" / "photo.png").write_bytes(b"\x89PNG\r\n\x1a\n")
+    (d / ".hidden.stl").write_bytes(raw)
+    return d
+
+
+def read_summary(out):
+    with open(out / "summary.csv", newline="") as fh:
+        return list(csv.DictReader(fh))
+
+
+@pytest.fixture(scope="module")
+def profile_run(folder, tmp_path_factory):
+    out = tmp_path_factory.mktemp("out")
+    params = task_parameters("profile", planes=3)
+    return out, params, run_batch(folder, out, "profile", params, workers=1, progress=False)
+
+
+def test_find_stl_files(folder):
+    files, other = find_stl_files(folder)
+    assert sorted(p.relative_to(folder).as_posix() for p in files) == sorted(EXPECTED)
+    assert other == 2
+
+
+def test_profile_batch_statuses_reasons_and_reports(folder, profile_run):
+    out, params, result = profile_run
+    assert result.ran == len(EXPECTED) and result.skipped == 0 and result.ignored == 2
+    got = {r["file"]: (r["status"], [x["code"] for x in r["reasons"]]) for r in result.reports}
+    assert got == EXPECTED
+    for rel, (status, _) in EXPECTED.items():
+        rep = json.loads((out / f"{rel}.json").read_text())  # one report per file, none lost
+        assert rep["status"] == status and rep["task"] == "profile" and rep["parameters"] == params
+        assert rep["input"]["sha256"] == hashlib.sha256((folder / rel).read_bytes()).hexdigest()
+        assert rep["timings"]["total"] >= 0 and all(r["message"] for r in rep["reasons"])
+        for path in rep["outputs"].values():
+            assert (out / path).exists()
+        if status != "fail":
+            root = ET.parse(out / rep["outputs"]["svg"]).getroot()
+            assert {g.get("id") for g in root.iter("{http://www.w3.org/2000/svg}g")} >= {"section", "axis"}
+    pot = json.loads((out / "pot.stl.json").read_text())["results"]
+    assert pot["max_diameter"] == pytest.approx(124.0, rel=0.01)
+    assert "PNG" in json.loads((out / "broken/photo.stl.json").read_text())["reasons"][0]["message"]
+    rows = read_summary(out)
+    assert [r["file"] for r in rows] == sorted(EXPECTED)
+    assert {r["file"]: r["status"] for r in rows} == {k: v[0] for k, v in EXPECTED.items()}
+    assert float(next(r for r in rows if r["file"] == "pot.stl")["rim_diameter"]) == pytest.approx(97.6, rel=0.01)
+    assert not (out / ".hidden.stl.json").exists()
+
+
+def test_rerun_skips_finished_files_and_resumes(folder, tmp_path):
+    out = tmp_path / "out"
+    params = task_parameters("section")
+    first = run_batch(folder, out, "section", params, workers=1, progress=False)
+    stamps = {p: p.stat().st_mtime_ns for p in out.rglob("*.json")}
+    summary = read_summary(out)
+    again = run_batch(folder, out, "section", params, workers=1, progress=False)
+    assert first.ran == len(EXPECTED) and again.ran == 0 and again.skipped == len(EXPECTED)
+    assert {p: p.stat().st_mtime_ns for p in out.rglob("*.json")} == stamps
+    assert read_summary(out) == summary
+    # Interrupted runs: a missing report, a missing output, a changed input are redone, nothing else.
+    (out / "cube.stl.json").unlink()
+    (out / "pot.section.svg").unlink()
+    slicelab.save(samples.box((0, 0, 0), (30, 20, 20)), tmp_path / "box.stl")
+    bowl = folder / "vessels" / "bowl.stl"
+    original = bowl.read_bytes()
+    try:
+        bowl.write_bytes((tmp_path / "box.stl").read_bytes())
+        resumed = run_batch(folder, out, "section", params, workers=1, progress=False)
+        assert resumed.ran == 3
+        assert json.loads((out / "vessels/bowl.stl.json").read_text())["input"]["sha256"] == \
+            hashlib.sha256(bowl.read_bytes()).hexdigest()
+    finally:
+        bowl.write_bytes(original)
+    # Same content, new time stamp: the hash says it is unchanged.
+    os.utime(folder / "cube.stl")
+    assert run_batch(folder, out, "section", params, workers=1, progress=False).ran == 1  # the bowl, restored
+    # Other parameters make every report stale; --retry-failed redoes failures only.
+    other = task_parameters("section", origin=(0, 0, 5), normal=(0, 0, 1))
+    assert run_batch(folder, out, "section", other, workers=1, progress=False).ran == len(EXPECTED)
+    n_fail = sum(v[0] == "fail" for v in EXPECTED.values()) - 1  # the open ring is fine to cut
+    assert run_batch(folder, out, "section", other, workers=1, progress=False, retry_failed=True).ran == n_fail
+
+
+def test_process_pool_gives_the_same_summary(folder, tmp_path):
+    a = run_batch(folder, tmp_path / "a", "inspect", workers=1, progress=False)
+    b = run_batch(folder, tmp_path / "b", "inspect", workers=2, progress=False)
+    assert b.ran == len(EXPECTED)
+    assert read_summary(tmp_path / "a") == read_summary(tmp_path / "b")
+    assert len({r["worker"] for r in b.reports}) >= 1 and a.count("fail") == b.count("fail") == 3
+
+
+def test_dask_local_cluster_gives_the_same_summary(folder, profile_run, tmp_path):
+    distributed = pytest.importorskip("distributed")
+    out, params, local = profile_run
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=2, processes=False,
+                                  dashboard_address=None) as cluster:
+        result = run_batch(folder, tmp_path / "dask", "profile", params, scheduler=cluster.scheduler_address,
+                           progress=False)
+    assert result.ran == len(EXPECTED)
+    assert (tmp_path / "dask" / "summary.csv").read_text() == (out / "summary.csv").read_text()
+    for rep in result.reports:  # the same outputs, byte for byte
+        for path in rep["outputs"].values():
+            if path.endswith((".svg", ".json")):
+                assert (tmp_path / "dask" / path).read_bytes() == (out / path).read_bytes()
+
+
+def _origin_volume(triangles):
+    t = np.asarray(triangles)
+    return float(np.einsum("ij,ij->", t[:, 0], np.cross(t[:, 1], t[:, 2])) / 6)
+
+
+def test_split_task(folder, tmp_path):
+    out = tmp_path / "out"
+    result = run_batch(folder, out, "split", task_parameters("split", origin=(0, 0, 40), normal=(0, 0, 1)),
+                       workers=1, progress=False)
+    rep = next(r for r in result.reports if r["file"] == "pot.stl")
+    assert rep["status"] == "ok"
+    front, rear = slicelab.load(out / rep["outputs"]["front"]), slicelab.load(out / rep["outputs"]["rear"])
+    assert front.bounds[0, 2] >= 40 - 1e-4 and rear.bounds[1, 2] <= 40 + 1e-4
+    # Nothing lost: the pieces enclose the original's volume together (float32 files: loose tolerance).
+    whole = slicelab.load(folder / "pot.stl")
+    assert _origin_volume(front.triangles) + _origin_volume(rear.triangles) == \
+        pytest.approx(_origin_volume(whole.triangles), rel=1e-5)
+    assert rep["results"]["section_loops"] == 2 and rep["results"]["cut_facets"] > 0
+    ET.parse(out / rep["outputs"]["svg"])
+
+
+def test_split_task_reports_a_missing_split_module(folder, tmp_path, monkeypatch):
+    monkeypatch.setitem(sys.modules, "slicelab.split", None)  # as if split.py were not there
+    result = run_batch(folder, tmp_path / "out", "split", task_parameters("split"), workers=1, progress=False)
+    rep = next(r for r in result.reports if r["file"] == "pot.stl")
+    assert rep["status"] == "fail" and rep["reasons"][-1]["code"] == "task_unavailable"
+    assert "slicelab.split" in rep["reasons"][-1]["message"]
+    assert len(result.reports) == len(EXPECTED)
+
+
+def test_layers_task(folder, tmp_path):
+    result = run_batch(folder, tmp_path, "layers", task_parameters("layers", layer_height=5.0), workers=1,
+                       progress=False)
+    rep = next(r for r in result.reports if r["file"] == "cube.stl")
+    assert rep["status"] == "ok" and rep["results"]["layers"] == 4
+    data = json.loads((tmp_path / rep["outputs"]["json"]).read_text())
+    assert [round(x["area"], 9) for x in data["layers"]] == [400.0] * 4
+
+
+def test_cli_batch(folder, tmp_path, capsys):
+    out = tmp_path / "out"
+    status = main(["batch", str(folder), "-o", str(out), "--task", "section", "--z", "10", "--workers", "1",
+                   "--no-progress"])
+    assert status == 1  # some files failed; every one has its report
+    assert len(read_summary(out)) == len(EXPECTED)
+    text = capsys.readouterr().out
+    assert "3 fail" in text and "summary.csv" in text
+    assert main(["batch", str(folder), "-o", str(out), "--task", "layers"]) == 2
+    assert main(["batch", str(folder), "-o", str(out), "--task", "profile", "--z", "3"]) == 2
+    assert main(["batch", str(tmp_path / "missing"), "-o", str(out), "--task", "inspect"]) == 2
+    assert main(["batch", str(folder), "-o", str(out), "--task", "inspect", "--workers", "0"]) == 2
+    assert "error" in capsys.readouterr().err
+
+
+def test_bad_parameters():
+    with pytest.raises(ValueError):
+        task_parameters("carve")
+    with pytest.raises(ValueError):
+        task_parameters("section", origin=(0, 0, 0))
+    with pytest.raises(ValueError):
+        task_parameters("layers")
+    with pytest.raises(ValueError):
+        task_parameters("profile", side="middle")
