@@ -26,6 +26,9 @@ _LAZY = {
     "Split": "split", "split": "split",
     "align": "artefacts", "Alignment": "artefacts", "profile": "artefacts", "Profile": "artefacts",
     "Measurements": "artefacts", "run_batch": "batch",
+    "rasterize": "raster", "LayerRaster": "raster", "GridMask": "raster", "raster_hierarchy": "raster",
+    "layer_perimeters": "perimeters", "Perimeters": "perimeters",
+    "layer_paths": "paths", "LayerPaths": "paths",
 }
 
 __all__ = ["Mesh", "MeshFileError", "MeshReport", "check", "load", "save", "__version__", *_LAZY]

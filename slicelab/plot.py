@@ -1,0 +1,166 @@
+"""Figures for the notebooks (matplotlib, imported lazily by the functions).
+
+Each helper draws on a given Axes (or a new one) and returns the Axes.
+Other stages add their own block of functions below.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["plot_raster", "plot_distance", "plot_toolpath", "plot_coverage"]
+
+
+def _axes(ax):
+    if ax is None:
+        import matplotlib.pyplot as plt
+        _, ax = plt.subplots(figsize=(6, 6))
+    ax.set_aspect("equal")
+    return ax
+
+
+# ------------------------------------------------------------- layer rasters (issue 5)
+_ROLE_STYLE = {"external": "-", "internal": "-", "gap_fill": "-", "filling": "-"}
+
+
+def plot_raster(raster, hierarchy=None, ax=None, *, cmap="tab10"):
+    """The material mask with its contour tree, each contour coloured by depth.
+
+    Examples
+    --------
+    >>> import matplotlib; matplotlib.use("Agg")
+    >>> import slicelab
+    >>> from slicelab.samples import nested_shells
+    >>> r = slicelab.rasterize(slicelab.section(nested_shells(), (0, 0, 20), (0, 0, 1)), 0.5)
+    >>> ax = plot_raster(r)
+    >>> len(ax.lines)
+    3
+    """
+    import matplotlib.pyplot as plt
+    from .raster import raster_hierarchy
+    ax = _axes(ax)
+    for tile in raster.tiles:
+        ax.imshow(tile.mask, origin="lower", extent=tile.extent, cmap="Greys", vmin=0, vmax=2,
+                  interpolation="nearest")
+    h = raster_hierarchy(raster) if hierarchy is None else hierarchy
+    colours = plt.get_cmap(cmap)
+    for c, d in zip(h.contours, h.depth):
+        ring = np.vstack([c, c[:1]])
+        ax.plot(ring[:, 0], ring[:, 1], color=colours(int(d) % 10), lw=1.2, label=f"depth {d}")
+    handles, labels = ax.get_legend_handles_labels()
+    uniq = dict(zip(labels, handles))
+    if uniq:
+        ax.legend(uniq.values(), uniq.keys(), loc="upper right", fontsize=8)
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    return ax
+
+
+def plot_distance(perimeters, ax=None, *, tile: int = 0, cmap="magma"):
+    """The distance field of one tile with the perimeter levels and the filling's limit.
+
+    Examples
+    --------
+    >>> import matplotlib; matplotlib.use("Agg")
+    >>> import slicelab
+    >>> from slicelab.samples import box
+    >>> per = slicelab.layer_perimeters(slicelab.section(box((0, 0, 0), (4, 3, 1)), (0, 0, .5), (0, 0, 1)),
+    ...                           pixel_size=0.1)
+    >>> ax = plot_distance(per)
+    """
+    ax = _axes(ax)
+    f = per_field = perimeters.fields[tile]
+    vals = np.where(per_field.grid.mask, f.values, np.nan)
+    im = ax.imshow(vals, origin="lower", extent=f.grid.extent, cmap=cmap, interpolation="nearest")
+    ax.figure.colorbar(im, ax=ax, shrink=0.7, label="distance to the boundary (mm)")
+    for k, polys in enumerate(perimeters.rings):
+        for p in polys:
+            for r in (p.exterior, *p.holes):
+                q = np.vstack([r, r[:1]])
+                ax.plot(q[:, 0], q[:, 1], color="cyan", lw=0.8,
+                        label=f"perimeters ({len(perimeters.levels)})" if k == 0 else None)
+    for polys, colour, name in ((perimeters.fill, "lime", "filling limit"),
+                                (perimeters.solid, "white", "solid filling limit")):
+        for p in polys:
+            for r in (p.exterior, *p.holes):
+                q = np.vstack([r, r[:1]])
+                ax.plot(q[:, 0], q[:, 1], color=colour, lw=0.8, ls="--", label=name)
+    for g in perimeters.gap_fill:
+        ax.plot(g[:, 0], g[:, 1], color="deepskyblue", lw=1.5, label="gap fill")
+    handles, labels = ax.get_legend_handles_labels()
+    uniq = dict(zip(labels, handles))
+    if uniq:
+        ax.legend(uniq.values(), uniq.keys(), loc="upper right", fontsize=8)
+    return ax
+
+
+def plot_toolpath(paths, ax=None, *, cmap="viridis", lw: float = 1.0, travel: bool = True):
+    """Every extrusion coloured by print order, travel moves dotted.
+
+    Examples
+    --------
+    >>> import matplotlib; matplotlib.use("Agg")
+    >>> import slicelab
+    >>> from slicelab.samples import box
+    >>> lp = slicelab.layer_paths(slicelab.section(box((0, 0, 0), (4, 3, 1)), (0, 0, .5), (0, 0, 1)),
+    ...                           pixel_size=0.1)
+    >>> ax = plot_toolpath(lp)
+    """
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
+    ax = _axes(ax)
+    items = list(paths.ordered())
+    colours = plt.get_cmap(cmap)(np.linspace(0, 1, max(len(items), 1)))
+    segs, cols, moves = [], [], []
+    prev = None
+    for k, (_, q, _) in enumerate(items):
+        segs.append(q)
+        cols.append(colours[k])
+        if prev is not None:
+            moves.append(np.stack([prev, q[0]]))
+        prev = q[-1]
+    ax.add_collection(LineCollection(segs, colors=cols, linewidths=lw))
+    if travel and moves:
+        ax.add_collection(LineCollection(moves, colors="red", linewidths=0.6, linestyles=":"))
+    if items:
+        allp = np.concatenate(segs)
+        ax.set_xlim(allp[:, 0].min() - 1, allp[:, 0].max() + 1)
+        ax.set_ylim(allp[:, 1].min() - 1, allp[:, 1].max() + 1)
+    sm = plt.cm.ScalarMappable(cmap=cmap, norm=plt.Normalize(0, max(len(items) - 1, 1)))
+    ax.figure.colorbar(sm, ax=ax, shrink=0.7, label="print order")
+    ax.set_title(f"extrusion {paths.extrusion_length:.0f} mm, travel {paths.travel_length:.0f} mm (dotted)")
+    return ax
+
+
+def plot_coverage(paths, raster=None, ax=None, *, pixel_size: float | None = None):
+    """Coverage of the layer by its extrusions drawn at their widths: gaps and double coverage.
+
+    Pixels of material (from `raster`) that nothing covers show red; once
+    covered, light; twice or more, dark.
+
+    Examples
+    --------
+    >>> import matplotlib; matplotlib.use("Agg")
+    >>> import slicelab
+    >>> from slicelab.samples import box
+    >>> s = slicelab.section(box((0, 0, 0), (4, 3, 1)), (0, 0, .5), (0, 0, 1))
+    >>> ax = plot_coverage(slicelab.layer_paths(s, pixel_size=0.1), slicelab.rasterize(s, 0.1))
+    """
+    from matplotlib.colors import ListedColormap
+    from .paths import coverage_map
+    ax = _axes(ax)
+    p = pixel_size or (raster.pixel_size if raster is not None else 0.05)
+    counts, grid = coverage_map(paths, p)
+    img = np.minimum(counts, 3).astype(float)
+    if raster is not None:
+        material = raster.combined().window(grid.row0, grid.col0, grid.shape)
+        img[(counts == 0) & ~material] = np.nan
+        img[(counts == 0) & material] = 0
+        gaps = float(np.count_nonzero((counts == 0) & material)) * p * p
+        double = float(np.count_nonzero(counts >= 2)) * p * p
+        ax.set_title(f"gaps {gaps:.3g} mm2 ({100 * gaps / max(raster.area, 1e-12):.2f}%), "
+                     f"double {double:.3g} mm2")
+    else:
+        img[counts == 0] = np.nan
+    cmap = ListedColormap(["red", "#cfe3f5", "#3b6ea8", "#0b2545"])
+    ax.imshow(img, origin="lower", extent=grid.extent, cmap=cmap, vmin=-0.5, vmax=3.5, interpolation="nearest")
+    return ax

@@ -1,0 +1,136 @@
+"""Perimeters by erosion against exact vector offsets (shapely, dev extra), thin walls, gap fill."""
+import numpy as np
+import pytest
+
+import slicelab
+from slicelab.perimeters import SegmentIndex, layer_perimeters as perimeters
+from slicelab.samples import nested_shells
+from layer_shapes import SHAPES, corner_angles, rect, section_of
+
+shapely = pytest.importorskip("shapely")
+
+P = 0.05  # the default pixel size, where the accuracy targets hold
+
+
+def _densify(rings, step=0.01):
+    return np.concatenate([np.asarray(shapely.segmentize(shapely.LinearRing(r), step).coords) for r in rings])
+
+
+def _sharp_corner_tips(loops, level):
+    """Where the exact offset at `level` has the corners of polygon corners sharper than 90 degrees."""
+    tips = []
+    for lp in loops:
+        ccw = shapely.LinearRing(lp).is_ccw
+        ring = lp if ccw else lp[::-1]
+        ang = corner_angles(ring) if ccw else corner_angles(ring)
+        for k in np.flatnonzero(ang < 90):
+            a = ring[k - 1] - ring[k]
+            b = ring[(k + 1) % len(ring)] - ring[k]
+            bis = a / np.linalg.norm(a) + b / np.linalg.norm(b)
+            tips.append(ring[k] + bis / np.linalg.norm(bis) * level / np.sin(np.radians(ang[k]) / 2))
+    return np.array(tips).reshape(-1, 2)
+
+
+@pytest.mark.parametrize("name", list(SHAPES))
+def test_perimeters_match_exact_offsets(name):
+    loops = SHAPES[name]
+    per = perimeters(section_of(loops), 0.4, 2, pixel_size=P)
+    poly = shapely.Polygon(loops[0], loops[1:])
+    for k, level in enumerate(per.levels):
+        ref = poly.buffer(-level, join_style="round", quad_segs=64)
+        ours = shapely.MultiPolygon([shapely.Polygon(q.exterior, q.holes) for q in per.rings[k]])
+        assert abs(ours.area - ref.area) <= 1e-3 * ref.area
+        # Both ways: our boundary's points to the exact boundary, and back.
+        mine = _densify([r for q in per.rings[k] for r in (q.exterior, *q.holes)])
+        exact = np.concatenate([np.asarray(shapely.segmentize(g, 0.01).coords)
+                                for g in getattr(ref.boundary, "geoms", [ref.boundary])])
+        d1 = shapely.distance(ref.boundary, shapely.points(mine))
+        d2 = shapely.distance(ours.boundary, shapely.points(exact))
+        tips = _sharp_corner_tips(loops, level)
+        for pts, d in ((mine, d1), (exact, d2)):
+            near = np.zeros(len(pts), bool)
+            for t in tips:
+                near |= np.hypot(*(pts - t).T) < 0.25
+            assert d[~near].max() <= 0.01, (name, level, d[~near].max())
+            if near.any():
+                assert d[near].max() <= 0.5 * P, (name, level, d[near].max())
+
+
+def test_sharp_corners_are_snapped_exactly():
+    per = perimeters(section_of([rect(0.013, 0.021, 10.013, 6.021)]), 0.4, 2, pixel_size=0.1)
+    for k, level in enumerate(per.levels):
+        (poly,) = per.rings[k]
+        assert len(poly.exterior) == 4
+        lo = np.array([0.013, 0.021]) + level
+        hi = np.array([10.013, 6.021]) - level
+        np.testing.assert_allclose(np.sort(poly.exterior[:, 0]), [lo[0]] * 2 + [hi[0]] * 2, atol=1e-9)
+        np.testing.assert_allclose(np.sort(poly.exterior[:, 1]), [lo[1]] * 2 + [hi[1]] * 2, atol=1e-9)
+
+
+def test_hierarchy_is_recomputed_at_every_level():
+    # A dumbbell: two squares joined by a 0.6 mm neck. The first perimeter (0.2) goes round
+    # both; the second (0.6) cannot pass the neck, so erosion splits the island in two.
+    dumbbell = np.array([[0, 0], [5, 0], [5, 2.2], [7, 2.2], [7, 0], [12, 0], [12, 5], [7, 5], [7, 2.8],
+                         [5, 2.8], [5, 5], [0, 5]], float) + 0.011
+    per = perimeters(section_of([dumbbell]), 0.4, 2, pixel_size=P)
+    assert [len(level) for level in per.rings] == [1, 2]
+    # Two holes 0.6 mm apart: separate around the first perimeter, merged at the second.
+    holes = [rect(2, 2, 5, 5)[::-1] + 0.013, rect(5.6, 2, 8.6, 5)[::-1] + 0.013]
+    per = perimeters(section_of([rect(0, 0, 11, 7) + 0.013, *holes]), 0.4, 2, pixel_size=P)
+    assert [len(level[0].holes) for level in per.rings] == [2, 1]
+
+
+def test_nested_shells_depths_per_level():
+    s = slicelab.section(nested_shells(), (0, 0, 20), (0, 0, 1))
+    per = perimeters(s, 0.4, 2, pixel_size=0.1)
+    for level in per.rings:
+        assert sorted(p.depth for p in level) == [0, 2]
+        assert sorted(len(p.holes) for p in level) == [0, 1]
+
+
+def test_thin_wall_gets_gap_fill_along_its_middle():
+    wall = rect(0, 0, 10, 0.3) + (0.012, 0.017)
+    per = perimeters(section_of([wall]), 0.4, 2, pixel_size=P)
+    assert per.thin_walls == 1
+    assert all(len(level) == 0 for level in per.rings)
+    assert len(per.gap_fill) == 1
+    line, width = per.gap_fill[0], per.gap_widths[0]
+    assert np.hypot(*np.diff(line, axis=0).T).sum() > 9.0
+    np.testing.assert_allclose(line[:, 1], 0.017 + 0.15, atol=P)
+    assert np.all(np.abs(width - 0.3) <= 2 * P)
+
+
+def test_gap_between_perimeters_is_filled():
+    # A 1.1 mm wall: perimeters at 0.2 and 0.6 from each side leave 0.3 mm in the middle.
+    wall = rect(0, 0, 20, 1.1) + (0.012, 0.017)
+    per = perimeters(section_of([wall]), 0.4, 2, pixel_size=P)
+    assert per.thin_walls == 0 and len(per.rings[0]) == 1 and len(per.rings[1]) == 0
+    assert len(per.gap_fill) >= 1
+    k = max(range(len(per.gap_fill)), key=lambda i: len(per.gap_fill[i]))
+    longest = per.gap_fill[k]
+    assert np.hypot(*np.diff(longest, axis=0).T).sum() > 15
+    np.testing.assert_allclose(longest[:, 1], 0.017 + 0.55, atol=P)
+    assert np.all(np.abs(per.gap_widths[k] - 0.3) <= 2 * P)
+    # Material too thin to print at all (under half a line width) is left alone.
+    per = perimeters(section_of([rect(0, 0, 10, 0.12)]), 0.4, 2, pixel_size=P)
+    assert per.gap_fill == [] and per.thin_walls == 1
+
+
+def test_segment_index_is_exact_against_brute_force():
+    rng = np.random.default_rng(5)
+    seg = rng.uniform(-10, 10, (300, 2, 2))
+    q = rng.uniform(-12, 12, (500, 2))
+    d, s, t = SegmentIndex(seg, 0.5).nearest(q)
+    a, b = seg[:, 0], seg[:, 1]
+    ab = b - a
+    tt = np.clip(np.einsum("qsk,sk->qs", q[:, None] - a, ab) / np.einsum("sk,sk->s", ab, ab), 0, 1)
+    brute = np.hypot(*(q[:, None] - a - tt[..., None] * ab).transpose(2, 0, 1)).min(axis=1)
+    np.testing.assert_allclose(d, brute, rtol=0, atol=1e-12)
+
+
+def test_bad_arguments():
+    s = section_of([rect(0, 0, 2, 2)])
+    with pytest.raises(ValueError, match="line width"):
+        perimeters(s, 0.0)
+    with pytest.raises(ValueError, match="perimeter count"):
+        perimeters(s, 0.4, -1)

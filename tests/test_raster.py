@@ -1,0 +1,110 @@
+"""Layer rasters: nonzero/even-odd fill, world-anchored grid, hole hierarchy (issue 5)."""
+import numpy as np
+import pytest
+from matplotlib.path import Path as MplPath
+
+import slicelab
+from slicelab.raster import GridMask, raster_hierarchy, rasterize
+from slicelab.samples import box, concat, nested_shells
+from layer_shapes import SHAPES, circle, rect, section_of, star
+
+
+def target():
+    """outer square > hole > island > hole, as four nested shells."""
+    return concat(box((0, 0, 0), (40, 40, 10)), box((5, 5, -1), (35, 35, 11), inward=True),
+                  box((10, 10, 0), (30, 30, 10)), box((15, 15, -1), (25, 25, 11), inward=True))
+
+
+@pytest.mark.parametrize("mesh, depths", [(nested_shells(), [0, 1, 2]), (target(), [0, 1, 2, 3])])
+def test_hierarchy_matches_vector_hierarchy(mesh, depths):
+    s = slicelab.section(mesh, (0, 0, 5.5 if len(depths) == 4 else 20), (0, 0, 1))
+    h = raster_hierarchy(rasterize(s, 0.25))
+    assert sorted(h.depth.tolist()) == depths
+    assert (h.loop >= 0).all()
+    np.testing.assert_array_equal(s.loop_depth[h.loop], h.depth)
+    # Parents agree too: the vector parent of a contour's loop is the loop of its raster parent.
+    for k in range(len(h.depth)):
+        if h.parent[k] >= 0:
+            assert s.loop_parent[h.loop[k]] == h.loop[h.parent[k]]
+
+
+def test_overlapping_cubes_nonzero_one_region_evenodd_hole(data_dir):
+    mesh = slicelab.load(data_dir / "overlapping_cubes.stl")
+    s = slicelab.section(mesh, (0, 0, 10.0), (0, 0, 1))
+    p = 0.1
+    nz = rasterize(s, p, rule="nonzero")
+    eo = rasterize(s, p, rule="evenodd")
+    hn, he = raster_hierarchy(nz), raster_hierarchy(eo)
+    assert hn.depth.tolist() == [0]
+    assert sorted(he.depth.tolist()) == [0, 1]
+    # Union 20x20 + 20x20 - 10x10 overlap; pixel-centre sampling errs by under a pixel row per edge.
+    assert abs(nz.area - 700.0) < 80 * p
+    assert abs(eo.area - 600.0) < 120 * p
+
+
+@pytest.mark.parametrize("name", list(SHAPES))
+def test_evenodd_mask_matches_point_in_polygon(name):
+    loops = SHAPES[name]
+    r = rasterize(section_of(loops), 0.1, rule="evenodd")
+    tile = r.tiles[0]
+    rows, cols = np.indices(tile.shape)
+    pts = tile.xy(rows.ravel(), cols.ravel())
+    inside = np.zeros(len(pts), bool)
+    for lp in loops:
+        inside ^= MplPath(lp).contains_points(pts)
+    assert np.count_nonzero(inside != tile.mask.ravel()) <= 2  # points exactly on an edge may differ
+
+
+def test_nonzero_fills_overlapping_loops_and_cancels_opposite_ones():
+    a, b = rect(0, 0, 4, 4), rect(2, 2, 6, 6)
+    nz = rasterize(section_of([a, b]), 0.1)
+    assert abs(nz.area - 28.0) < 0.1 * 24 * 0.6
+    # A clockwise loop inside a counter-clockwise one is a hole under both rules.
+    both = [rasterize(section_of([rect(0, 0, 4, 4), rect(1, 1, 2, 2)[::-1]]), 0.1, rule=r).area
+            for r in ("nonzero", "evenodd")]
+    assert abs(both[0] - 15.0) < 0.5 and abs(both[1] - 15.0) < 0.5
+
+
+def test_grid_is_anchored_to_the_world_origin():
+    p = 0.05
+    a = rasterize(section_of([rect(1.01, 2.02, 5.5, 4.3)]), p).tiles[0]
+    shift = np.array([37, -12]) * p  # an exact number of pixels
+    b = rasterize(section_of([rect(1.01, 2.02, 5.5, 4.3) + shift]), p).tiles[0]
+    assert (b.col0 - a.col0, b.row0 - a.row0) == (37, -12)
+    xy = a.xy(0, 0)
+    np.testing.assert_allclose(xy / p, np.round(xy / p), atol=1e-9)
+    np.testing.assert_array_equal(a.mask, b.mask)
+    # Set algebra between layers works by integer offsets.
+    back = GridMask(b.mask, b.row0 + 12, b.col0 - 37, p)
+    assert (a - back).area == 0
+    rows, cols = np.nonzero(a.mask)
+    h, w = np.ptp(rows) + 1, np.ptp(cols) + 1
+    assert np.count_nonzero((a - b).mask) == h * w - (h - 12) * (w - 37)
+    assert np.count_nonzero((a & b).mask) == (h - 12) * (w - 37)
+    assert (a | b).area == pytest.approx(2 * a.area - (a & b).area)
+
+
+def test_tiles_are_cropped_per_island():
+    far = section_of([rect(0, 0, 2, 2), rect(500, 300, 502, 302)])
+    r = rasterize(far, 0.05)
+    assert len(r.tiles) == 2
+    assert sum(t.mask.size for t in r.tiles) < 2 * (2 / 0.05 + 8) ** 2
+    assert abs(r.area - 8.0) < 0.5
+
+
+def test_transform_and_indices_round_trip():
+    r = rasterize(section_of([star()]), 0.05)
+    t = r.tiles[0]
+    rc = np.array([[3.25, 7.5], [10, 0]])
+    xy = t.xy(rc[:, 0], rc[:, 1])
+    np.testing.assert_allclose(t.indices(xy), rc)
+    np.testing.assert_allclose((t.transform @ np.c_[rc[:, ::-1], np.ones(2)].T).T[:, :2], xy)
+
+
+def test_bad_arguments():
+    s = section_of([circle(1.0)])
+    with pytest.raises(ValueError, match="rule"):
+        rasterize(s, 0.1, rule="winding")
+    with pytest.raises(ValueError, match="pixel size"):
+        rasterize(s, -1)
+    assert rasterize(slicelab.section(box(), (0, 0, 5), (0, 0, 1)), 0.1).tiles == ()
