@@ -200,8 +200,8 @@ def _run_split(args) -> int:
     print(f"{args.file}: {len(mesh)} facets: front {s.n_front} / cut {s.n_cut} / rear {s.n_rear} facets; "
           f"front.stl {len(s.front)} facets, rear.stl {len(s.rear)} facets"
           + (" (facing the viewer)" if args.visible_from is not None else ""))
-    print(f"section: {len(sec.segments)} segments, {len(sec.loops)} loops, {len(sec.open_chains)} open chains, "
-          f"area {sec.area:.6g} mm2")
+    print(f"section: {len(sec.segments)} segments, {len(sec.loops)} loops, "
+          f"{len(sec.open_chains)} open chains, area {sec.area:.6g} mm2")
     print(f"load {t1 - t0:.2f} s, split {t2 - t1:.2f} s, write {t3 - t2:.2f} s"
           + ("" if args.no_preview else f", preview {t4 - t3:.2f} s")
           + f"; total {t4 - t0:.2f} s; wrote {args.output}/")

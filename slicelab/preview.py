@@ -182,7 +182,8 @@ def draw_split(split, *, pixels: int = 700, axes=None):
         _, axes = plt.subplots(1, 2, figsize=(12, 6.4), constrained_layout=True)
     fig = axes[0].figure
     frame = split.section.frame
-    for ax, mesh, title in ((axes[0], split.front, "front"), (axes[1], split.rear, "rear (front lifted away)")):
+    panels = ((axes[0], split.front, "front"), (axes[1], split.rear, "rear (front lifted away)"))
+    for ax, mesh, title in panels:
         img = render_depth(mesh.triangles, mesh.normals, frame, (s0, s1, t0, t1), shape)
         ax.imshow(img, extent=(s0, s1, t0, t1), origin="upper", interpolation="nearest")
         _draw_section(ax, split.section)

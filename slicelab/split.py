@@ -20,6 +20,8 @@ keep their facet's winding and normal, and no piece has two equal corners.
 """
 from __future__ import annotations
 
+import sys
+import types
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -131,23 +133,28 @@ def corner_distances(frame: Frame, triangles: np.ndarray) -> np.ndarray:
     >>> bool(plane_distances(f, t)[0, 0] > 0), float(corner_distances(f, t)[0, 0])
     (True, 0.0)
     """
-    if frame.horizontal or len(triangles) <= _CHUNK:
-        dist = plane_distances(frame, triangles)
-    else:
-        dist = np.empty(triangles.shape[:2])
-        o = frame.origin
-        n0, n1, n2 = frame.normal
-        for s in range(0, len(triangles), _CHUNK):  # over blocks of facets, not facets
-            d = triangles[s:s + _CHUNK] - o
-            x = d[..., 0] * n0
-            x += d[..., 1] * n1  # same operations in the same order as Frame.distances
-            x += d[..., 2] * n2
-            dist[s:s + _CHUNK] = x
-    if np.count_nonzero(frame.normal) > 1 and len(triangles):
-        flat = triangles.reshape(-1, 3)
-        reach = np.maximum(np.abs(flat.min(axis=0)), np.abs(flat.max(axis=0))) + np.abs(frame.origin)
-        bound = 64 * np.finfo(np.float64).eps * float(reach @ np.abs(frame.normal))
-        dist[np.abs(dist) <= bound] = 0.0
+    if frame.horizontal:  # z - z0: the sign is exact
+        return plane_distances(frame, triangles)
+    dist = np.empty(triangles.shape[:2])
+    o = frame.origin
+    n0, n1, n2 = frame.normal
+    snap = np.count_nonzero(frame.normal) > 1
+    reach = 0.0  # the largest |p - origin| along any axis
+    for s in range(0, len(triangles), _CHUNK):  # over blocks of facets, not facets
+        d = triangles[s:s + _CHUNK] - o
+        x = d[..., 0] * n0
+        x += d[..., 1] * n1  # same operations in the same order as Frame.distances
+        x += d[..., 2] * n2
+        dist[s:s + _CHUNK] = x
+        if snap and len(d):
+            reach = max(reach, float(d.max()), -float(d.min()))
+    if snap:
+        # Rounding of p - o, of the products and of the sums is a few ulps of these terms.
+        size = (reach + float(np.abs(o).max())) * float(np.abs(frame.normal).sum())
+        bound = 64 * np.finfo(np.float64).eps * size
+        for s in range(0, len(dist), _CHUNK):
+            x = dist[s:s + _CHUNK]
+            x[np.abs(x) <= bound] = 0.0
     return dist
 
 
@@ -219,7 +226,7 @@ def _split(triangles: np.ndarray, dist: np.ndarray, frame: Frame | None):
     def side(whole, pieces, row):
         k = len(whole)
         tris = np.empty((k + len(pieces), 3, 3))
-        np.take(triangles, whole, axis=0, out=tris[:k])
+        np.take(triangles, whole, axis=0, out=tris[:k], mode="clip")  # "raise" buffers out
         tris[k:] = pieces
         return tris, np.concatenate([whole, rows[row]])
 
@@ -322,9 +329,26 @@ def _pieces_mesh(triangles: np.ndarray, source: Mesh, src: np.ndarray) -> Mesh:
     (tests/test_split.py checks the result against a normally built Mesh).
     """
     mesh = object.__new__(Mesh)
-    for name, value in (("triangles", triangles), ("normals", source.normals[src]),
-                        ("file_normals", source.file_normals[src])):
+    for name, value in (("triangles", triangles), ("normals", np.take(source.normals, src, axis=0)),
+                        ("file_normals", np.take(source.file_normals, src, axis=0))):
         value = np.ascontiguousarray(value, dtype=np.float64)
         value.setflags(write=False)
         object.__setattr__(mesh, name, value)
     return mesh
+
+
+class _CallableModule(types.ModuleType):
+    """This module, callable as `split`.
+
+    ``slicelab.split`` names both this module and its function. The package
+    binds the function lazily, but importing the module first (``from
+    slicelab.split import classify``, the CLI, doctest collection) makes the
+    import system bind the module to that name instead; calling it must still
+    split.
+    """
+
+    def __call__(self, *args, **kwargs) -> Split:
+        return split(*args, **kwargs)
+
+
+sys.modules[__name__].__class__ = _CallableModule

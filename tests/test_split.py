@@ -230,6 +230,14 @@ def test_pieces_mesh_is_a_whole_mesh():
     assert repr(s.front).startswith(f"Mesh({len(s.front)} facets")
 
 
+def test_split_is_callable_even_when_its_module_was_imported_first():
+    code = ("from slicelab.split import classify\nimport slicelab\nfrom slicelab.samples import box\n"
+            "print(slicelab.split(box(), (0, 0, 0.5), (0, 0, 1)).n_cut)")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert r.stdout.strip() == "8"
+
+
 # ------------------------------------------------------- staircase planes
 def _stair_planes():
     t = STAIRS.triangles
