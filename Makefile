@@ -31,6 +31,9 @@ test: $(VENV)/.installed-dev
 	$(BIN)/python scripts/make_data.py
 	$(BIN)/python -m pytest -n auto --nbmake tests notebooks slicelab $(PYTEST_ARGS)
 
+figures: data
+	$(BIN)/python scripts/figures.py
+
 bench: data-large $(VENV)/.installed-dev
 	for s in scripts/bench_*.py; do $(BIN)/python $$s || exit 1; done
 

@@ -658,6 +658,29 @@ class Measurements:
         return "\n".join(out)
 
 
+def _base_thickness(half: HalfProfile, underside: np.ndarray) -> float:
+    """Floor height minus underside height, averaged over the inner half of the base's radius.
+
+    Averaged rather than read at the axis alone, where one noisy vertex on
+    each side would decide it.
+    """
+    inner = half.inner
+    up = _edge_facing(inner, reverse=False)[::-1] >= _UP
+    run = int(np.argmin(up)) if not up.all() else len(up)
+    floor = inner[::-1][: run + 1]  # from the axis outwards, while the interior faces up
+    r_lim = 0.5 * min(float(floor[:, 0].max()), float(underside[:, 0].max()))
+    if len(floor) < 2 or len(underside) < 2 or not r_lim > 0:
+        on_axis = half.polygon[half.polygon[:, 0] == 0, 1]
+        return float(on_axis.max() - on_axis.min())
+    r = np.linspace(0.0, r_lim, 65)
+
+    def height(chain):
+        o = np.argsort(chain[:, 0], kind="stable")
+        return np.interp(r, chain[o, 0], chain[o, 1])
+
+    return float(np.mean(height(floor) - height(underside)))
+
+
 def _measure(halves: list[HalfProfile], height: float, spread: float, residual: float) -> Measurements:
     nan = float("nan")
     rim, rmax, zmax, base, base_t, clay = [], [], [], [], [], []
@@ -674,9 +697,8 @@ def _measure(halves: list[HalfProfile], height: float, spread: float, residual: 
         down = face[::-1] <= -_UP
         run = int(np.argmin(down)) if not down.all() else len(down)
         base.append(h.outer[::-1][run, 0] if len(h.outer) else nan)
-        on_axis = ring[:, 0] == 0
-        if on_axis.sum() >= 2:
-            base_t.append(float(ring[on_axis, 1].max() - ring[on_axis, 1].min()))
+        if (ring[:, 0] == 0).sum() >= 2:
+            base_t.append(_base_thickness(h, h.outer[::-1][: run + 1]))
         clay.append(pappus_volume(ring) + sum(pappus_volume(x) for x in h.holes))
         t, w = _wall_thickness(h, step)
         thick.append(t)
