@@ -30,6 +30,8 @@ class MeshReport:
         Facets of zero area.
     n_flipped_normals : int
         Stored normals more than 90 degrees from the winding normal.
+    n_zero_normals : int
+        Stored normals that are zero (many exporters write them so; not a defect).
     n_open_edges : int
         Edges used by one facet only (holes in the surface).
     n_nonmanifold_edges : int
@@ -52,6 +54,7 @@ class MeshReport:
     n_vertices: int
     n_degenerate: int
     n_flipped_normals: int
+    n_zero_normals: int
     n_open_edges: int
     n_nonmanifold_edges: int
     n_misoriented_edges: int
@@ -83,6 +86,7 @@ class MeshReport:
             f"shells            {self.n_shells}",
             f"degenerate        {self.n_degenerate}",
             f"flipped normals   {self.n_flipped_normals}",
+            f"zero normals      {self.n_zero_normals}",
             f"open edges        {self.n_open_edges}",
             f"non-manifold      {self.n_nonmanifold_edges}",
             f"misoriented edges {self.n_misoriented_edges}",
@@ -109,11 +113,21 @@ def signed_volume(triangles: np.ndarray, cross: np.ndarray | None = None) -> flo
     t = np.asarray(triangles, dtype=np.float64)
     if len(t) == 0:
         return 0.0
-    c = t[:, 0].min(axis=0) / 2 + t[:, 0].max(axis=0) / 2
+    first = t[:, 0]
+    c = np.array([first[:, k].min() / 2 + first[:, k].max() / 2 for k in range(3)])  # columns: fast
     if cross is None:
         cross = edge_cross(t)
     # det[v0 - c, v1 - c, v2 - c] = (v0 - c) . ((v1 - v0) x (v2 - v0))
     return float(np.einsum("ij,ij->", t[:, 0] - c, cross) / 6.0)
+
+
+def _longest2_bound(t: np.ndarray) -> np.ndarray:
+    # A cheap upper bound of each facet's squared longest edge: the squared bounding-box diagonal.
+    span = np.zeros(len(t))
+    for k in range(3):
+        c = t[:, :, k]
+        span += (c.max(axis=1) - c.min(axis=1)) ** 2
+    return span
 
 
 def _topology(t: np.ndarray) -> tuple[int, int, int, int, int]:
@@ -161,19 +175,23 @@ def check(mesh: Mesh) -> MeshReport:
     n = len(t)
     if n == 0:
         z = (0.0, 0.0, 0.0)
-        return MeshReport(0, 0, 0, 0, 0, 0, 0, 0, 0.0, 0.0, False, (z, z))
+        return MeshReport(0, 0, 0, 0, 0, 0, 0, 0, 0, 0.0, 0.0, False, (z, z))
     # Welding and the edge table (sorting) run in a worker thread while this thread measures
     # the facets: numpy releases the GIL, so the two cores share the work.
     with ThreadPoolExecutor(max_workers=1) as pool:
         topo = pool.submit(_topology, t)
         cross = edge_cross(t)
         double_area = np.sqrt(np.einsum("ij,ij->i", cross, cross))
-        longest2 = np.zeros(n)
+        # Zero area up to rounding, relative to the facet's own size (its longest edge), not the
+        # part's. Only facets that are small against that edge need the edge lengths at all.
+        small = np.flatnonzero(double_area <= 1e-6 * _longest2_bound(t))
+        longest2 = np.zeros(len(small))
         for i, j in ((0, 1), (1, 2), (2, 0)):
-            e = t[:, j] - t[:, i]
+            e = t[small, j] - t[small, i]
             np.maximum(longest2, np.einsum("ij,ij->i", e, e), out=longest2)
-        # Zero area up to rounding: relative to the facet's own size, not the part's.
-        n_degenerate = int(np.count_nonzero(double_area <= 1e-12 * longest2))
+        n_degenerate = int(np.count_nonzero(double_area[small] <= 1e-12 * longest2))
+        stored = np.einsum("ij,ij->i", mesh.file_normals, mesh.file_normals)
+        n_zero_normals = int(np.count_nonzero(stored == 0))
         n_flipped = int(np.count_nonzero(np.einsum("ij,ij->i", mesh.file_normals, mesh.normals) < 0))
         volume = signed_volume(t, cross)
         n_vertices, n_open, n_nonmanifold, n_misoriented, n_shells = topo.result()
@@ -184,6 +202,7 @@ def check(mesh: Mesh) -> MeshReport:
         n_vertices=n_vertices,
         n_degenerate=n_degenerate,
         n_flipped_normals=n_flipped,
+        n_zero_normals=n_zero_normals,
         n_open_edges=n_open,
         n_nonmanifold_edges=n_nonmanifold,
         n_misoriented_edges=n_misoriented,

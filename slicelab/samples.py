@@ -281,7 +281,7 @@ def voxels(occupancy, pitch=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0)) -> Mesh:
     occ = np.pad(np.asarray(occupancy, bool), 1)
     nx, ny, nz = occ.shape
     pitch = np.asarray(pitch, float)
-    origin = np.asarray(origin, float) - pitch  # undo the padding
+    origin = np.asarray(origin, float)
     faces = []
 
     def vid(i, j, k):
@@ -311,7 +311,7 @@ def voxels(occupancy, pitch=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0)) -> Mesh:
     f = f.reshape(-1, 3)
     i, rest = np.divmod(used, (ny + 1) * (nz + 1))
     j, k = np.divmod(rest, nz + 1)
-    v = origin + np.stack([i, j, k], 1) * pitch
+    v = (np.stack([i, j, k], 1) - 1) * pitch + origin  # index 1 is the first cell after the padding
     return Mesh.from_vertices_faces(v, f)
 
 

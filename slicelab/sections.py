@@ -301,14 +301,15 @@ def _cut(corners3: np.ndarray, corners2: np.ndarray, dist: np.ndarray, plane: np
     p0 = edge_points(corners2, dist, rows, b_start, a_start)
     p1 = edge_points(corners2, dist, rows, b_end, a_end)
 
-    # Key rows: [is-edge, above xyz, below xyz (zero for a vertex key), plane].
+    # Key rows: [above xyz, below xyz, plane]; a point on an above corner in the plane is keyed
+    # by that corner twice, which no edge (two distinct corners) can match.
+    flat = corners3.reshape(-1, 3)
+
     def key_rows(b, a):
-        on_vertex = dist[rows, a] == 0
-        k = np.zeros((len(rows), 8))
-        k[:, 0] = ~on_vertex
-        k[:, 1:4] = corners3[rows, a]
-        k[:, 4:7] = np.where(on_vertex[:, None], 0.0, corners3[rows, b])
-        k[:, 7] = plane[rows]
+        k = np.empty((len(rows), 7))
+        k[:, 0:3] = flat[3 * rows + a]
+        k[:, 3:6] = flat[3 * rows + np.where(dist[rows, a] == 0, a, b)]
+        k[:, 6] = plane[rows]
         return k
 
     ids, _ = exact_ids(np.concatenate([key_rows(b_start, a_start), key_rows(b_end, a_end)]))
@@ -471,9 +472,9 @@ def slice_layers(mesh: Mesh, layer_height: float | None = None, *, heights=None,
         raise ValueError("plane heights must be finite")
     planes, back = np.unique(z, return_inverse=True)
     t = mesh.triangles
-    zc = t[..., 2]
-    lo = np.searchsorted(planes, zc.min(axis=1), side="right")  # first plane above the lowest corner
-    hi = np.searchsorted(planes, zc.max(axis=1), side="right")  # planes <= the highest corner
+    z0, z1, z2 = t[:, 0, 2], t[:, 1, 2], t[:, 2, 2]
+    lo = np.searchsorted(planes, np.minimum(np.minimum(z0, z1), z2), side="right")  # first plane above the lowest corner
+    hi = np.searchsorted(planes, np.maximum(np.maximum(z0, z1), z2), side="right")  # planes <= the highest
     count = hi - lo
     facet = np.repeat(np.arange(len(t)), count)
     first = np.repeat(lo - (np.cumsum(count) - count), count)
