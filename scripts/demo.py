@@ -23,6 +23,12 @@ STEPS = [
                                                "-o", str(OUT / "pot_z60.svg")], None),
     ("pot: every 2 mm layer", ["layers", str(DATA / "pot.stl"), "--layer-height", "2",
                                "-o", str(OUT / "pot_layers")], None),
+    ("pot: profile drawing and measurements",
+     ["profile", str(DATA / "pot.stl"), "-o", str(OUT / "pot_profile.svg"), "--png", str(OUT / "pot_profile.png"),
+      "--json", str(OUT / "pot_profile.json")], "pot_profile.txt"),
+    ("every sample: batch profile (reports, summary.csv; reruns skip)",
+     ["batch", str(DATA), "-o", str(OUT / "batch_profile"), "--task", "profile", "--planes", "6",
+      "--exclude", "large/*", "--workers", "2", "--no-progress"], None),
 ]
 
 

@@ -602,10 +602,11 @@ def _wall_thickness(half: HalfProfile, step: float):
     return dist[keep], wts[keep]
 
 
-def _hausdorff(a: np.ndarray, b: np.ndarray, trees: dict, i: int, j: int) -> tuple[float, float]:
-    da = trees[j].query(a)[0]
-    db = trees[i].query(b)[0]
-    return float(max(da.max(), db.max())), float(math.sqrt((np.mean(da ** 2) + np.mean(db ** 2)) / 2))
+def _rms_distance(a: np.ndarray, b: np.ndarray, tree_a, tree_b) -> float:
+    """Symmetric RMS of nearest-point distances between two point sets."""
+    da = tree_b.query(a)[0]
+    db = tree_a.query(b)[0]
+    return float(math.sqrt((np.mean(da ** 2) + np.mean(db ** 2)) / 2))
 
 
 @dataclass(frozen=True)
@@ -935,11 +936,13 @@ def _representative(halves: list[HalfProfile], height: float):
     rms = np.zeros((n, n))
     for i in range(n):  # tens of halves: a few hundred small queries
         for j in range(i + 1, n):
-            rms[i, j] = rms[j, i] = _hausdorff(coarse[i], coarse[j], trees, i, j)[1]
+            rms[i, j] = rms[j, i] = _rms_distance(coarse[i], coarse[j], trees[i], trees[j])
     rep = int(np.argmin(rms.sum(axis=1)))
     fine = [_resample(np.vstack([h.polygon, h.polygon[:1]]), max(height, 1e-9) / 1000)[0] for h in halves]
     tree_rep = cKDTree(fine[rep])
-    spread = np.array([0.0 if j == rep else
-                       max(float(tree_rep.query(fine[j])[0].max()), float(cKDTree(fine[j]).query(fine[rep])[0].max()))
-                       for j in range(n)])
+
+    def hausdorff(j):
+        return max(float(tree_rep.query(fine[j])[0].max()), float(cKDTree(fine[j]).query(fine[rep])[0].max()))
+
+    spread = np.array([0.0 if j == rep else hausdorff(j) for j in range(n)])
     return rep, spread

@@ -14,6 +14,7 @@ client writes the reports, so a worker lost mid-file still leaves a report.
 from __future__ import annotations
 
 import csv
+import fnmatch
 import hashlib
 import json
 import math
@@ -112,11 +113,12 @@ def task_parameters(task: str, *, origin=None, normal=None, layer_height=None, p
     return json.loads(json.dumps(p))
 
 
-def find_stl_files(root, exclude=None) -> tuple[list[Path], int]:
+def find_stl_files(root, exclude=None, patterns=()) -> tuple[list[Path], int]:
     """Every ``*.stl`` file under `root` (any case), sorted; and how many other files were passed over.
 
-    Hidden files and folders (a leading dot: temporary ``.part`` files) and
-    anything under `exclude` (the output folder) are left out.
+    Hidden files and folders (a leading dot: temporary ``.part`` files),
+    anything under `exclude` (the output folder) and paths relative to `root`
+    matching one of the glob `patterns` (``large/*``, ``*_raw.stl``) are left out.
 
     Examples
     --------
@@ -136,6 +138,8 @@ def find_stl_files(root, exclude=None) -> tuple[list[Path], int]:
                              and (ex is None or (here / d).resolve() != ex))
         for name in filenames:
             if name.startswith("."):
+                continue
+            if any(fnmatch.fnmatch((here / name).relative_to(root).as_posix(), pat) for pat in patterns):
                 continue
             if name.lower().endswith(".stl"):
                 found.append(here / name)
@@ -215,7 +219,9 @@ def _task_section(mesh, report, stem, out, params):
     results = {"plane": {"origin": origin.tolist(), "normal": normal.tolist()}, "area": s.area,
                "loops": len(s.loops), "holes": holes, "open_chains": len(s.open_chains),
                "joined_gaps": len(s.joined_gaps)}
-    reasons = [_reason("open_section", f"the section has {len(s.open_chains)} open chains")] if s.open_chains else []
+    reasons = []
+    if s.open_chains:
+        reasons.append(_reason("open_section", f"the section has {len(s.open_chains)} open chains"))
     return {"svg": _rel(out, svg)}, results, reasons
 
 
@@ -534,7 +540,7 @@ def _run_dask(jobs, scheduler: str, on_done):
 
 def run_batch(root, out, task: str = "inspect", params: dict | None = None, *, workers: int | None = None,
               scheduler: str | None = None, force: bool = False, retry_failed: bool = False,
-              progress: bool | None = None) -> BatchResult:
+              progress: bool | None = None, exclude=()) -> BatchResult:
     """Run `task` over every STL file under `root`, writing reports and outputs under `out`.
 
     Parameters
@@ -558,6 +564,8 @@ def run_batch(root, out, task: str = "inspect", params: dict | None = None, *, w
         Rerun files whose up-to-date report says fail.
     progress : bool, optional
         tqdm progress bar on stderr (default: when stderr is a terminal).
+    exclude : sequence of str
+        Glob patterns of paths under `root` to leave out (``large/*``).
 
     Returns
     -------
@@ -581,7 +589,7 @@ def run_batch(root, out, task: str = "inspect", params: dict | None = None, *, w
     if params != task_parameters(task, **{k: v for k, v in _as_options(params).items()}):
         raise ValueError(f"parameters do not fit the {task} task: {params}")
     out.mkdir(parents=True, exist_ok=True)
-    files, ignored = find_stl_files(root, exclude=out)
+    files, ignored = find_stl_files(root, exclude=out, patterns=tuple(exclude))
     reports: dict[str, dict] = {}
     jobs = []
     for path in files:

@@ -276,11 +276,14 @@ def _add_batch(sub) -> None:
     t.add_argument("--max-size", type=float, default=5000.0, metavar="MM",
                    help="flag parts larger than this as implausible (default 5000 mm)")
     r = p.add_argument_group("running")
-    r.add_argument("--workers", type=int, metavar="N", help="local processes (default: CPU count; 1: in this process)")
+    r.add_argument("--workers", type=int, metavar="N",
+                   help="local processes (default: CPU count; 1: in this process)")
     r.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler, e.g. tcp://host:8786")
     r.add_argument("--force", action="store_true", help="rerun files whose report is up to date")
     r.add_argument("--retry-failed", action="store_true", help="rerun files whose report says fail")
     r.add_argument("--no-progress", action="store_true", help="no progress bar")
+    r.add_argument("--exclude", action="append", default=[], metavar="GLOB",
+                   help="leave out paths under DIR matching this pattern (repeatable), e.g. 'large/*'")
 
 
 def _run_batch(args) -> int:
@@ -308,7 +311,7 @@ def _run_batch(args) -> int:
         raise UsageError(str(exc)) from None
     result = run_batch(args.folder, args.output, args.task, params, workers=args.workers,
                        scheduler=args.scheduler, force=args.force, retry_failed=args.retry_failed,
-                       progress=False if args.no_progress else None)
+                       progress=False if args.no_progress else None, exclude=args.exclude)
     print(result)
     for rep in result.reports:
         if rep["status"] != "ok":

@@ -1,4 +1,4 @@
-"""Batch runs: statuses and reasons, no lost report, resumable reruns, process pool and Dask give the same summary."""
+"""Batch runs: statuses and reasons, no lost report, resumable reruns; pool and Dask give the same summary."""
 import csv
 import hashlib
 import json
@@ -78,6 +78,8 @@ def test_find_stl_files(folder):
     files, other = find_stl_files(folder)
     assert sorted(p.relative_to(folder).as_posix() for p in files) == sorted(EXPECTED)
     assert other == 2
+    kept, _ = find_stl_files(folder, patterns=("broken/*", "*.STL"))
+    assert len(kept) == len(EXPECTED) - 5
 
 
 def test_profile_batch_statuses_reasons_and_reports(folder, profile_run):
