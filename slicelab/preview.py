@@ -144,10 +144,16 @@ def _draw_section(ax, section, colour="#c0392b"):
         verts = np.concatenate([np.vstack([r, r[:1]]) for r in rings])
         codes = np.concatenate([[MplPath.MOVETO] + [MplPath.LINETO] * (len(r) - 1) + [MplPath.CLOSEPOLY]
                                 for r in rings])
-        ax.add_patch(PathPatch(MplPath(verts, codes), facecolor=colour, alpha=0.45, edgecolor=colour,
-                               lw=1.2))
+        # Light fill, firm outline: for a solid part the section covers most of the picture.
+        ax.add_patch(PathPatch(MplPath(verts, codes), facecolor=colour, alpha=0.25, edgecolor="none"))
+        ax.add_patch(PathPatch(MplPath(verts, codes), facecolor="none", edgecolor=colour, lw=1.3))
     for chain in section.open_chains:
         ax.plot(chain[:, 0], chain[:, 1], color=colour, lw=1.2, ls="--")
+
+
+def _figsize(extent) -> tuple[float, float]:
+    s0, s1, t0, t1 = extent
+    return 12.0, float(np.clip(6.0 * (t1 - t0) / max(s1 - s0, 1e-12), 2.5, 9.0)) + 1.0
 
 
 def draw_split(split, *, pixels: int = 700, axes=None):
@@ -179,7 +185,7 @@ def draw_split(split, *, pixels: int = 700, axes=None):
     shape = (max(int(round((t1 - t0) * scale)), 1), max(int(round((s1 - s0) * scale)), 1))
     if axes is None:
         import matplotlib.pyplot as plt
-        _, axes = plt.subplots(1, 2, figsize=(12, 6.4), constrained_layout=True)
+        _, axes = plt.subplots(1, 2, figsize=_figsize((s0, s1, t0, t1)), constrained_layout=True)
     fig = axes[0].figure
     frame = split.section.frame
     panels = ((axes[0], split.front, "front"), (axes[1], split.rear, "rear (front lifted away)"))
@@ -213,7 +219,7 @@ def save_split_preview(split, path, *, pixels: int = 700, dpi: int = 100) -> Non
     from matplotlib.figure import Figure  # no pyplot: works under any backend, leaves no figure open
 
     from .io import atomic_path
-    fig = Figure(figsize=(12, 6.4), layout="constrained")
+    fig = Figure(figsize=_figsize(_extent(split)), layout="constrained")
     draw_split(split, pixels=pixels, axes=fig.subplots(1, 2))
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=dpi, format="png")
