@@ -116,10 +116,11 @@ class DistanceField:
     refined: int = 0
 
 
-def signed_mask_distance(mask: np.ndarray, pixel_size: float) -> np.ndarray:
+def signed_mask_distance(mask: np.ndarray, pixel_size: float, *, outside: bool = True) -> np.ndarray:
     """Approximate signed distance (mm) to a mask's boundary: positive inside, from OpenCV.
 
-    The boundary is taken half a pixel beyond the last pixel centre.
+    The boundary is taken half a pixel beyond the last pixel centre. With
+    ``outside=False`` every pixel outside gets -p/2 (one transform instead of two).
 
     Examples
     --------
@@ -130,11 +131,13 @@ def signed_mask_distance(mask: np.ndarray, pixel_size: float) -> np.ndarray:
     import cv2
     m8 = np.ascontiguousarray(mask, dtype=np.uint8)
     din = cv2.distanceTransform(m8, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
+    if not outside:
+        return np.where(mask, din.astype(np.float64) - 0.5, -0.5) * pixel_size
     dout = cv2.distanceTransform(1 - m8, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
     return np.where(mask, din.astype(np.float64) - 0.5, 0.5 - dout.astype(np.float64)) * pixel_size
 
 
-def distance_field(tile: GridMask, index: SegmentIndex | None, levels, *, band: float = 2.5) -> DistanceField:
+def distance_field(tile: GridMask, index: SegmentIndex | None, levels, *, band: float = 2.0) -> DistanceField:
     """The distance field of a tile, exact within `band` pixels of each level.
 
     Parameters
@@ -144,8 +147,9 @@ def distance_field(tile: GridMask, index: SegmentIndex | None, levels, *, band: 
         The tile's boundary segments; None keeps the pixel-exact field.
     levels : sequence of float
         Distances (mm) whose level sets will be drawn.
-    band : float, default 2.5
-        Half-width of the refined band, in pixels.
+    band : float, default 2.0
+        Half-width of the refined band, in pixels (the pixel-exact field errs
+        by under a pixel, and contours use pixels within a pixel of a level).
 
     Returns
     -------
@@ -163,7 +167,8 @@ def distance_field(tile: GridMask, index: SegmentIndex | None, levels, *, band: 
     (0.3, True)
     """
     p = tile.pixel_size
-    values = signed_mask_distance(tile.mask, p)
+    # Only levels inside the material are ever drawn: the outside needs no distances.
+    values = signed_mask_distance(tile.mask, p, outside=False)
     refined = 0
     if index is not None and len(index):
         sel = np.zeros(tile.shape, bool)
@@ -435,19 +440,25 @@ def trace_skeleton(skel: np.ndarray) -> list[np.ndarray]:
     return [pts[np.array(p)] for p in paths if len(p) >= 2]
 
 
+def _disc(radius_px: float) -> np.ndarray:
+    import cv2
+    r = max(1, int(np.ceil(radius_px)))
+    return cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+
+
 def _opened(values: np.ndarray, level: float, radius: float, p: float) -> np.ndarray:
     """A field whose zero set bounds {values >= level} opened by a disc of `radius`.
 
     Parts of the region thinner than 2 radius (slivers where fill lines would run nearly
     parallel and cover nothing) are removed; elsewhere the zero set is the exact level set,
-    because the pixel-exact distance to the core only caps the field 1.5 px outside it.
+    since the dilated core reaches 1.5 px past it.
     """
     import cv2
     core = values >= level + radius
     if not core.any():
         return np.full(values.shape, -1.0)
-    d = cv2.distanceTransform((~core).astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE) * p
-    return np.minimum(values - level, radius + 1.5 * p - d)
+    allowed = cv2.dilate(core.view(np.uint8), _disc(radius / p + 1.5)).view(bool)
+    return np.where(allowed, values - level, -p)
 
 
 def _gap_fill(tile: GridMask, values: np.ndarray, fill_field: np.ndarray, levels, w: float, min_width: float):
@@ -459,15 +470,16 @@ def _gap_fill(tile: GridMask, values: np.ndarray, fill_field: np.ndarray, levels
         return [], []
     # Perimeter k covers |F - level_k| <= w/2 wherever its level set exists within w/2.
     covered = np.zeros(tile.shape, bool)
+    disc = _disc(0.5 * w / p + 1)
     for level in levels:  # over levels
         reach = values >= level
         if not reach.any():
             continue
-        d = cv2.distanceTransform((~reach).astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE) * p
-        covered |= (np.abs(values - level) <= 0.5 * w) & (d <= 0.5 * w + p)
+        near = cv2.dilate(reach.view(np.uint8), disc).view(bool)
+        covered |= (np.abs(values - level) <= 0.5 * w) & near
     # The filling's centre lines stay inside fill_field >= 0; its extrusions reach w/2 further.
-    to_fill = cv2.distanceTransform((fill_field < 0).astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
-    return medial_fill(tile, tile.mask & ~covered & (to_fill * p > 0.5 * w + p), w, min_width)
+    filled = cv2.dilate((fill_field >= 0).view(np.uint8), disc).view(bool)
+    return medial_fill(tile, tile.mask & ~covered & ~filled, w, min_width)
 
 
 def medial_fill(grid: GridMask, uncovered: np.ndarray, w: float, min_width: float):
@@ -576,7 +588,8 @@ def layer_perimeters(layer, line_width: float = 0.4, count: int = 2, *, pixel_si
     thin = 0
     for tile, segs in zip(raster.tiles, raster.segments):  # over tiles
         index = SegmentIndex(segs, 4 * p)
-        fld = distance_field(tile, index, [*levels, fill_level])
+        # The filling limit needs no sub-pixel accuracy: only perimeter levels are refined.
+        fld = distance_field(tile, index, levels)
         fields.append(fld)
         tile_rings = []
         for k, level in enumerate(levels):  # over levels
