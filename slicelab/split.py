@@ -244,7 +244,7 @@ def split_facets(triangles: np.ndarray, dist: np.ndarray, frame: Frame | None = 
     dist : (n, 3) ndarray
         Signed corner distances (>= 0 counts as in front).
     frame : Frame, optional
-        For a horizontal plane, cut points are put exactly at its height.
+        For a plane x, y or z = const, cut points are put exactly in it.
 
     Returns
     -------
