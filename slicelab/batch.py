@@ -486,12 +486,31 @@ class BatchResult:
                 f"{self.ignored} other files ignored) in {self.seconds:.1f} s")
 
 
+_PRELOAD = ["slicelab.batch", "slicelab.artefacts", "slicelab.profile_drawing", "slicelab.check",
+            "slicelab.sections", "scipy.spatial", "matplotlib.figure", "matplotlib.backends.backend_agg"]
+
+
+def _pool_context():
+    """Worker processes forked from a server that has imported slicelab once (forkserver).
+
+    Not a fork of this process, which may run threads (tqdm, BLAS); not a
+    spawn, which would import numpy, scipy and matplotlib again in every
+    worker of every batch and re-run an unguarded __main__.
+    """
+    import multiprocessing
+    try:
+        ctx = multiprocessing.get_context("forkserver")
+    except ValueError:  # no forkserver on this platform (Windows)
+        return multiprocessing.get_context("spawn")
+    ctx.set_forkserver_preload(_PRELOAD)
+    return ctx
+
+
 def _run_local(jobs, workers: int, on_done):
     """A process pool; a crash is retried alone, so it costs only its own file."""
-    import multiprocessing
     from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
     from concurrent.futures.process import BrokenProcessPool
-    ctx = multiprocessing.get_context("spawn")  # no fork of a threaded parent (tqdm, BLAS)
+    ctx = _pool_context()
     queue = list(reversed(jobs))
     suspects = []
     while queue:
@@ -501,11 +520,21 @@ def _run_local(jobs, workers: int, on_done):
                 while queue or running:
                     while queue and len(running) < 2 * workers:  # a short queue: a crash loses little
                         job = queue.pop()
-                        running[pool.submit(process_file, *job)] = job
+                        try:
+                            fut = pool.submit(process_file, *job)
+                        except BrokenProcessPool:
+                            queue.append(job)  # never submitted: it goes to the next pool, not astray
+                            raise
+                        running[fut] = job
                     done, _ = wait(running, return_when=FIRST_COMPLETED)
                     for fut in done:
                         job = running.pop(fut)
-                        on_done(job, fut.result())
+                        try:
+                            rep = fut.result()
+                        except BrokenProcessPool:
+                            suspects.append(job)
+                            raise
+                        on_done(job, rep)
             except BrokenProcessPool:
                 suspects += list(running.values())
     for job in suspects:  # one at a time, in a fresh process each

@@ -164,6 +164,26 @@ def test_dask_local_cluster_gives_the_same_summary(folder, profile_run, tmp_path
                 assert (tmp_path / "dask" / path).read_bytes() == (out / path).read_bytes()
 
 
+def test_dead_workers_still_leave_a_report_each(tmp_path):
+    """Workers that die (here: a script without a __main__ guard, whose workers re-run it and crash)
+    cost their files a fail report each, marked transient, so the next run retries them."""
+    import subprocess
+    scans, out = tmp_path / "scans", tmp_path / "out"
+    for k in range(3):
+        slicelab.save(samples.box((0, 0, 0), (10 + k, 10, 10)), scans / f"box{k}.stl")
+    script = tmp_path / "unguarded.py"
+    script.write_text("from slicelab.batch import run_batch\n"
+                      f"run_batch({str(scans)!r}, {str(out)!r}, 'inspect', workers=2, progress=False)\n")
+    proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=300)
+    assert proc.returncode == 0, proc.stderr[-2000:]
+    rows = read_summary(out)
+    assert [r["file"] for r in rows] == ["box0.stl", "box1.stl", "box2.stl"]
+    assert {(r["status"], r["reasons"]) for r in rows} == {("fail", "worker_lost")}
+    assert "__main__" in rows[0]["messages"]
+    again = run_batch(scans, out, "inspect", workers=1, progress=False)
+    assert again.ran == 3 and again.count("ok") == 3
+
+
 def _origin_volume(triangles):
     t = np.asarray(triangles)
     return float(np.einsum("ij,ij->", t[:, 0], np.cross(t[:, 1], t[:, 2])) / 6)
