@@ -63,16 +63,25 @@ def render_depth(triangles, normals, frame, extent, shape, *, block: int = 4_000
     n = np.asarray(normals, dtype=np.float64)
     s0, s1, t0, t1 = map(float, extent)
     ps, pt = (s1 - s0) / cols, (t1 - t0) / rows
-    uv = frame.to_2d(t)
+    # Plane coordinates and depth of every corner in one product with the frame's axes.
+    axes = np.stack([frame.u, frame.v, frame.normal], axis=1)
+    q = np.einsum("ij,jk->ik", t.reshape(-1, 3), axes) - frame.origin @ axes  # faster than @ here
     # Pixel coordinates with pixel centres on integers: x to the right, y downwards.
-    x = (uv[..., 0] - s0) / ps - 0.5
-    y = (t1 - uv[..., 1]) / pt - 0.5
-    del uv
-    depth = frame.distances(t)  # larger is nearer the viewer
-    c_lo = np.clip(np.ceil(x.min(axis=1)), 0, cols).astype(np.int64)
-    c_hi = np.clip(np.floor(x.max(axis=1)), -1, cols - 1).astype(np.int64)
-    r_lo = np.clip(np.ceil(y.min(axis=1)), 0, rows).astype(np.int64)
-    r_hi = np.clip(np.floor(y.max(axis=1)), -1, rows - 1).astype(np.int64)
+    x = ((q[:, 0] - s0) / ps - 0.5).reshape(-1, 3)
+    y = ((t1 - q[:, 1]) / pt - 0.5).reshape(-1, 3)
+    depth = q[:, 2].reshape(-1, 3)  # larger is nearer the viewer
+    del q
+
+    def lo(a):  # per-facet minimum and maximum, without a slow reduction over an axis of 3
+        return np.minimum(np.minimum(a[:, 0], a[:, 1]), a[:, 2])
+
+    def hi(a):
+        return np.maximum(np.maximum(a[:, 0], a[:, 1]), a[:, 2])
+
+    c_lo = np.clip(np.ceil(lo(x)), 0, cols).astype(np.int64)
+    c_hi = np.clip(np.floor(hi(x)), -1, cols - 1).astype(np.int64)
+    r_lo = np.clip(np.ceil(lo(y)), 0, rows).astype(np.int64)
+    r_hi = np.clip(np.floor(hi(y)), -1, rows - 1).astype(np.int64)
     w = np.maximum(c_hi - c_lo + 1, 0)
     count = w * np.maximum(r_hi - r_lo + 1, 0)
     live = np.flatnonzero(count > 0)  # facets that hold at least one pixel centre in their box
