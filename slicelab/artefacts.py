@@ -473,7 +473,6 @@ def _split_chains(ring: np.ndarray, axis_tol: float):
     # The rim: edges that face up on either side of the top point.
     n_in = int(np.argmin(up[fwd])) if not up.all() else 0
     n_out = int(np.argmin(up[(bwd - 1) % k])) if not up.all() else 0
-    inner_start, outer_start = fwd[n_in], bwd[n_out]
     if on_axis.any():
         stop_in = int(np.argmax(on_axis[fwd[n_in:]])) + n_in if on_axis[fwd[n_in:]].any() else k - 1
         stop_out = int(np.argmax(on_axis[bwd[n_out:]])) + n_out if on_axis[bwd[n_out:]].any() else k - 1
@@ -483,7 +482,7 @@ def _split_chains(ring: np.ndarray, axis_tol: float):
         stop_out = int((top - low) % k)
     inner = ring[fwd[n_in:max(stop_in, n_in) + 1]]
     outer = ring[bwd[n_out:max(stop_out, n_out) + 1]]
-    return outer, inner, top, inner_start, outer_start
+    return outer, inner, top
 
 
 def half_profiles(mesh: Mesh, angle: float, *, max_gap: float = 1.0, candidates=None) -> list[HalfProfile]:
@@ -548,7 +547,7 @@ def half_profiles(mesh: Mesh, angle: float, *, max_gap: float = 1.0, candidates=
         best = best[np.abs(best - np.roll(best, 1, axis=0)).max(axis=1) > tol]
         if len(best) < 3:
             continue
-        outer, inner, top, _, _ = _split_chains(best, 0.0)
+        outer, inner, top = _split_chains(best, 0.0)
         out.append(HalfProfile(float(a % (2 * math.pi)), best, tuple(holes), outer, inner, top))
     return out
 
