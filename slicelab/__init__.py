@@ -13,6 +13,8 @@ Each stage lives in its own module and passes plain data:
 from __future__ import annotations
 
 import importlib
+import sys
+import types
 
 from .check import MeshReport, check
 from .io import MeshFileError, load, save
@@ -29,9 +31,27 @@ _LAZY = {
     "rasterize": "raster", "LayerRaster": "raster", "GridMask": "raster", "raster_hierarchy": "raster",
     "layer_perimeters": "perimeters", "Perimeters": "perimeters",
     "layer_paths": "paths", "LayerPaths": "paths",
+    "PrintSettings": "plan", "PrintPlan": "plan", "plan": "plan",
 }
 
 __all__ = ["Mesh", "MeshFileError", "MeshReport", "check", "load", "save", "__version__", *_LAZY]
+
+
+class _Package(types.ModuleType):
+    """The package module: a stage's function keeps its name when its module has the same name.
+
+    Importing a submodule makes the import system set ``slicelab.<name>`` to that module;
+    for ``split``, ``plan``, ``cut`` and the like the function must stay under that name
+    (the module itself is always in ``sys.modules``).
+    """
+
+    def __setattr__(self, name, value):
+        if isinstance(value, types.ModuleType) and _LAZY.get(name) == name:
+            value = getattr(value, name)
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package
 
 
 def __getattr__(name):
