@@ -1,0 +1,542 @@
+"""Watertight cuts: split a solid by a plane and cap both parts (seed 001).
+
+The paper cuts an STL solid that is too big for a rapid-prototyping machine:
+split the facets along the plane, find the edges in the plane that really
+bound the cut, fill the cut face with a constrained Delaunay triangulation
+that respects holes and concave outlines, for any plane. Here:
+
+* The facets are split by `slicelab.split.split_facets` (the paper's
+  re-splitting of triangles), so the rear part keeps everything behind the
+  plane and the front part everything at or in front of it.
+* The cap of each part is the section of the material *just on its side* of
+  the plane (the limit of sections taken towards the plane from that side).
+  This is the paper's edge-neighbourhood analysis in one rule: an edge lying
+  in the plane bounds the rear cap when a facet behind the plane uses it, the
+  front cap when a facet in front does; facets lying in the plane ("on+" and
+  "on-") are dropped, because the caps cover them (on+: the cap of the side
+  the facet faces away from covers it, on-: the other cap does).
+* Every cap vertex is the very 3-D cut point of the split, computed from the
+  same edge corners in the same order, so the parts close with no crack and
+  no T-junction, for tilted planes too. The 2-D coordinates only serve the
+  triangulation; each triangle vertex carries the index of its 3-D point
+  through GEOS (as the Z coordinate), so nothing is rounded back to 3-D.
+* The triangulation is GEOS's constrained Delaunay triangulation (through
+  shapely), polygon by polygon: outer loop, its holes; islands in holes are
+  polygons of their own.
+"""
+from __future__ import annotations
+
+import warnings
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .loops import chain_segments, loop_hierarchy, signed_area
+from .mesh import Mesh
+from .sections import _NEXT, Frame, plane_distances
+from .split import split_facets
+from .topology import exact_ids
+
+try:  # the split's distances (rounding noise snapped to zero): cut exactly where split() would
+    from .split import corner_distances as _split_distances
+except ImportError:  # pragma: no cover - an older split.py
+    _split_distances = plane_distances
+
+__all__ = ["Cap", "Cut", "CutReport", "CutWarning", "cut", "plane_edges", "cap_segments",
+           "triangle_min_angles", "watertight_edges"]
+
+
+class CutWarning(UserWarning):
+    """A cut whose section did not close everywhere (the input was not watertight)."""
+
+
+@dataclass(frozen=True, eq=False)
+class Cap:
+    """The triangulated face of a part in the cutting plane.
+
+    Attributes
+    ----------
+    points : (p, 3) ndarray
+        The cut points (exact 3-D points of the split's facets).
+    triangles : (k, 3) int ndarray
+        Cap triangles, indices into `points`, wound so that their normal
+        points out of the part.
+    edges : (m, 2) int ndarray
+        The oriented cut edges the cap is bounded by (material on the left,
+        seen from outside the part... i.e. seen along the cap's normal).
+    loops : list of (j,) int ndarrays
+        Closed loops of `edges`, as point indices.
+    open_chains : list of (j, 3) ndarrays
+        Chains of cut edges that did not close (an open or broken input).
+    n_failed : int
+        Polygons whose triangulation failed the checks (not capped).
+    """
+
+    points: np.ndarray
+    triangles: np.ndarray
+    edges: np.ndarray
+    loops: list = field(default_factory=list)
+    open_chains: list = field(default_factory=list)
+    n_failed: int = 0
+
+    @property
+    def vertices(self) -> np.ndarray:
+        """(k, 3, 3) corners of the cap triangles."""
+        return self.points[self.triangles]
+
+    @property
+    def area(self) -> float:
+        """Area of the cap (mm^2)."""
+        t = self.vertices
+        return float(np.linalg.norm(np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0]), axis=1).sum() / 2)
+
+    @property
+    def closed(self) -> bool:
+        """Every cut edge closed into a loop and every polygon was triangulated."""
+        return not self.open_chains and self.n_failed == 0
+
+    def reversed(self) -> "Cap":
+        """The same cap facing the other way (for the partner part)."""
+        return Cap(self.points, self.triangles[:, ::-1].copy(), self.edges[:, ::-1].copy(),
+                   [lp[::-1] for lp in self.loops], [c[::-1] for c in self.open_chains], self.n_failed)
+
+
+@dataclass(frozen=True)
+class CutReport:
+    """What `cut` did.
+
+    Attributes
+    ----------
+    frame : Frame
+        The cutting plane.
+    rear_cap, front_cap : Cap
+    n_cut : int
+        Input facets divided by the plane.
+    n_in_plane : int
+        Input facets lying in the plane (dropped: the caps cover them).
+    """
+
+    frame: Frame
+    rear_cap: Cap
+    front_cap: Cap
+    n_cut: int
+    n_in_plane: int
+
+    @property
+    def closed(self) -> bool:
+        """Both caps closed: the parts are watertight when the input was."""
+        return self.rear_cap.closed and self.front_cap.closed
+
+    def describe(self) -> str:
+        """One line for people."""
+        parts = [f"cut {self.n_cut} facets", f"{self.n_in_plane} in the plane",
+                 f"rear cap {len(self.rear_cap.triangles)} triangles {self.rear_cap.area:.6g} mm2",
+                 f"front cap {len(self.front_cap.triangles)} triangles {self.front_cap.area:.6g} mm2"]
+        for name, cap in (("rear", self.rear_cap), ("front", self.front_cap)):
+            if cap.open_chains:
+                parts.append(f"{name}: {len(cap.open_chains)} open chains not capped")
+            if cap.n_failed:
+                parts.append(f"{name}: {cap.n_failed} polygons not triangulated")
+        return "; ".join(parts)
+
+
+class Cut(tuple):
+    """``(rear, front)``: the parts of a cut, with the `report` of how it went.
+
+    A plain 2-tuple of `Mesh` to unpack; `rear` is the side against the
+    plane's normal.
+    """
+
+    report: CutReport
+
+    def __new__(cls, rear: Mesh, front: Mesh, report: CutReport):
+        self = super().__new__(cls, (rear, front))
+        self.report = report
+        return self
+
+    @property
+    def rear(self) -> Mesh:
+        return self[0]
+
+    @property
+    def front(self) -> Mesh:
+        return self[1]
+
+    def __repr__(self) -> str:
+        return f"Cut(rear={self[0]!r}, front={self[1]!r}; {self.report.describe()})"
+
+
+# ------------------------------------------------------------------ cut edges
+def plane_edges(pieces: np.ndarray, corners: np.ndarray, corner_dist: np.ndarray,
+                side: int) -> tuple[np.ndarray, np.ndarray]:
+    """The edges of one side's split facets that a cap must close, run the way the cap runs them.
+
+    `pieces` are the facets of one side that reach the plane (pieces of cut
+    facets, facets touching it). Their edges in the plane are those no other
+    piece of the set walks back, leaving out the facets' own edges between
+    two corners strictly on this side (those are shared with facets away from
+    the plane). Taking the cap's edges from the split's own pieces, compared
+    bit for bit, makes the cap meet them exactly, whatever arithmetic put the
+    cut points where they are (even a cut point that rounded onto a corner).
+
+    Parameters
+    ----------
+    pieces : (k, 3, 3) ndarray
+        Facets of one side, as `split_facets` gives them, that reach the plane.
+    corners : (k, 3, 3) ndarray
+        The input facet each piece comes from (``triangles[source]``).
+    corner_dist : (k, 3) ndarray
+        Its corner distances, as given to `split_facets`.
+    side : {-1, +1}
+        -1 for the rear pieces, +1 for the front pieces.
+
+    Returns
+    -------
+    start, end : (m, 3) ndarrays
+        Each edge reversed: material on the left seen from outside that
+        side's part, through the plane.
+
+    Examples
+    --------
+    >>> from slicelab.split import split_facets
+    >>> from slicelab.samples import box
+    >>> t = box().triangles
+    >>> d = t[..., 2] - 0.5
+    >>> f, r, fs, rs, _ = split_facets(t, d)
+    >>> s, e = plane_edges(r, t[rs], d[rs], -1)
+    >>> len(s), bool(np.all(s[:, 2] == 0.5)), round(float(np.linalg.norm(e - s, axis=1).sum()), 9)
+    (8, True, 4.0)
+    """
+    k = len(pieces)
+    if k == 0:
+        return np.zeros((0, 3)), np.zeros((0, 3))
+    strict = (corner_dist * side) > 0
+    same = np.all(pieces[:, :, None, :] == corners[:, None, :, :], axis=-1)  # piece corner i == source corner j
+    away = np.any(same & strict[:, None, :], axis=2)  # a corner strictly on this side, not in the plane
+    vid, _ = exact_ids(pieces.reshape(-1, 3))
+    vid = vid.reshape(k, 3)
+    a, b = vid.reshape(-1), vid[:, _NEXT].reshape(-1)
+    keep = _cancel_pairs(a, b) & ~(away.reshape(-1) & away[:, _NEXT].reshape(-1)) & (a != b)
+    rows, i = np.divmod(np.flatnonzero(keep), 3)
+    return pieces[rows, _NEXT[i]], pieces[rows, i]
+
+
+# ------------------------------------------------------------------ capping
+def _cancel_pairs(sid: np.ndarray, eid: np.ndarray) -> np.ndarray:
+    """Mask of edges kept after cancelling each a->b against a b->a.
+
+    Two facets on the same side sharing an edge in the plane (a ridge lying in
+    it) give the edge both ways: they close against each other, not the cap.
+    """
+    keep = np.ones(len(sid), bool)
+    if len(sid) == 0:
+        return keep
+    und, _ = exact_ids(np.stack([np.minimum(sid, eid), np.maximum(sid, eid)], axis=1))
+    fwd = sid < eid
+    n_f = np.bincount(und, weights=fwd)
+    n_b = np.bincount(und, weights=~fwd)
+    cancel = np.minimum(n_f, n_b)
+    if not cancel.any():
+        return keep
+    order = np.lexsort((fwd, und))
+    u, f = und[order], fwd[order]
+    new = np.ones(len(u), bool)
+    new[1:] = (u[1:] != u[:-1]) | (f[1:] != f[:-1])
+    start = np.maximum.accumulate(np.where(new, np.arange(len(u)), 0))
+    keep[order] = (np.arange(len(u)) - start) >= cancel[u]
+    return keep
+
+
+def _simple_cycles(loop: np.ndarray) -> list[np.ndarray]:
+    """Split a closed walk that visits a point twice into simple cycles."""
+    if len(np.unique(loop)) == len(loop):
+        return [loop]
+    out, stack, where = [], [], {}
+    for v in loop.tolist():  # over the points of one pinched loop (rare)
+        if v in where:
+            k = where[v]
+            cyc = stack[k:]
+            for w in cyc[1:]:
+                del where[w]
+            del stack[k + 1:]
+            out.append(np.array(cyc))
+        else:
+            where[v] = len(stack)
+            stack.append(v)
+    if len(stack) > 1:
+        out.append(np.array(stack))
+    return [c for c in out if len(c) >= 3]
+
+
+def _drop_repeats(ring: np.ndarray, p2: np.ndarray, slivers: list) -> np.ndarray:
+    """Remove consecutive points with equal 2-D coordinates (distinct in 3-D).
+
+    A tilted plane can project two cut points a hair apart onto the same 2-D
+    point. The ring keeps one; a zero-area triangle (a, b, c) along the ring
+    restores the edges a-b, b-c the parts need.
+    """
+    while len(ring) >= 3:
+        q = p2[ring]
+        same = np.all(q == np.roll(q, -1, axis=0), axis=1)
+        if not same.any():
+            break
+        i = int(np.flatnonzero(same)[0])
+        n = len(ring)
+        a, b, c = ring[i], ring[(i + 1) % n], ring[(i + 2) % n]
+        slivers.append((a, b, c))
+        ring = np.delete(ring, (i + 1) % n)
+    return ring
+
+
+def cap_segments(start: np.ndarray, end: np.ndarray, to_2d) -> Cap:
+    """Chain oriented 3-D cut edges into loops and fill them with a constrained Delaunay triangulation.
+
+    Parameters
+    ----------
+    start, end : (m, 3) ndarrays
+        Oriented edges (material on the left seen from the cap's outside),
+        such as `plane_edges` gives.
+    to_2d : callable
+        Maps (k, 3) points to (k, 2) coordinates in which the material lies
+        on the left of the edges (outer loops counter-clockwise).
+
+    Returns
+    -------
+    Cap
+        Triangles wound counter-clockwise in `to_2d` coordinates.
+
+    Examples
+    --------
+    >>> sq = np.array([[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]], float)
+    >>> cap = cap_segments(sq, np.roll(sq, -1, axis=0), lambda p: p[:, :2])
+    >>> len(cap.triangles), cap.area, cap.closed
+    (2, 1.0, True)
+    """
+    start = np.asarray(start, dtype=np.float64).reshape(-1, 3)
+    end = np.asarray(end, dtype=np.float64).reshape(-1, 3)
+    m = len(start)
+    ids, first = exact_ids(np.concatenate([start, end]))
+    points = np.concatenate([start, end])[first]
+    sid, eid = ids[:m], ids[m:]
+    ok = sid != eid  # edges that round to zero length are points: they bound nothing
+    sid, eid = sid[ok], eid[ok]
+    keep = _cancel_pairs(sid, eid)
+    sid, eid = sid[keep], eid[keep]
+    edges = np.stack([sid, eid], axis=1)
+
+    chains = chain_segments(sid, eid)
+    loops, open_chains = [], []
+    for k in range(len(chains)):  # over chains, not edges
+        idx = chains.order[chains.bounds[k]:chains.bounds[k + 1]]
+        if chains.closed[k]:
+            loops += _simple_cycles(sid[idx])
+        else:
+            open_chains.append(points[np.append(sid[idx], eid[idx[-1]])])
+
+    p2 = np.asarray(to_2d(points), dtype=np.float64).reshape(-1, 2) if len(points) else np.zeros((0, 2))
+    slivers: list = []
+    rings = [r for r in (_drop_repeats(lp, p2, slivers) for lp in loops) if len(r) >= 3]
+    areas = np.array([signed_area(p2[r]) for r in rings])
+    nonzero = areas != 0
+    rings = [r for r, z in zip(rings, nonzero) if z]
+    areas = areas[nonzero]
+    tris, n_failed = _triangulate(rings, areas, p2)
+    if slivers:
+        tris = np.concatenate([tris, np.array(slivers, dtype=np.int64).reshape(-1, 3)])
+    return Cap(points, tris, edges, loops, open_chains, n_failed)
+
+
+def _triangulate(rings: list, areas: np.ndarray, p2: np.ndarray) -> tuple[np.ndarray, int]:
+    """Constrained Delaunay triangles of rings grouped into polygons with holes."""
+    if not rings:
+        return np.zeros((0, 3), np.int64), 0
+    import shapely
+    depth, parent = loop_hierarchy([p2[r] for r in rings])
+    groups: dict[int, list] = {}
+    for k in np.flatnonzero(areas > 0):
+        groups[int(k)] = [rings[k], []]
+    for k in np.flatnonzero(areas < 0):
+        p = int(parent[k])
+        if p >= 0 and p in groups:
+            groups[p][1].append(rings[k])
+        else:
+            # A clockwise loop with no outer loop around it (an inside-out shell): fill it
+            # wound as it runs, so that the part still closes.
+            groups[int(k)] = [rings[k], []]
+
+    polys, ring_sets, flips = [], [], []
+    for key, (ext, holes) in groups.items():  # over polygons
+        flip = areas[key] < 0
+        if flip:
+            ext = ext[::-1]
+
+        def ring(r):
+            return np.column_stack([p2[r], r.astype(np.float64)])  # Z carries the point index
+
+        polys.append(shapely.Polygon(ring(ext), [ring(h) for h in holes]))
+        ring_sets.append(np.concatenate([ext, *holes]))
+        flips.append(flip)
+    with np.errstate(all="ignore"):
+        result = shapely.constrained_delaunay_triangles(np.array(polys, dtype=object))
+    parts, owner = shapely.get_parts(result, return_index=True)
+    coords = shapely.get_coordinates(parts, include_z=True).reshape(-1, 4, 3)[:, :3]
+    tri = coords[..., 2].astype(np.int64)
+    exact = np.all(tri == coords[..., 2], axis=1)
+    q = p2[np.clip(tri, 0, len(p2) - 1)]
+    a2 = (q[:, 1, 0] - q[:, 0, 0]) * (q[:, 2, 1] - q[:, 0, 1]) - (q[:, 2, 0] - q[:, 0, 0]) * (q[:, 1, 1] - q[:, 0, 1])
+    # GEOS winds its triangles clockwise; a zero-area one keeps the winding of its neighbours.
+    ccw = np.where(a2 != 0, a2 > 0, False)
+    tri = np.where(ccw[:, None], tri, tri[:, ::-1])
+
+    out, n_failed = [], 0
+    bounds = np.searchsorted(owner, np.arange(len(polys) + 1))
+    for g in range(len(polys)):  # over polygons
+        t = tri[bounds[g]:bounds[g + 1]]
+        ex = exact[bounds[g]:bounds[g + 1]]
+        expected = polys[g].area
+        got = float(np.abs(a2[bounds[g]:bounds[g + 1]]).sum()) / 2
+        ok = (len(t) > 0 and ex.all() and np.isin(ring_sets[g], t).all() and np.isin(t, ring_sets[g]).all()
+              and abs(got - expected) <= 1e-9 * max(expected, 1e-300) + 1e-12 * got)
+        if not ok:
+            n_failed += 1
+            continue
+        out.append(t[:, ::-1] if flips[g] else t)
+    return (np.concatenate(out) if out else np.zeros((0, 3), np.int64)), n_failed
+
+
+# ------------------------------------------------------------------ the cut
+def _to_2d(frame: Frame, mirror: bool):
+    sign = -1.0 if mirror else 1.0
+
+    def f(points):
+        if frame.horizontal:  # exact: plain (x, y), with y negated facing down
+            return points[:, :2] * np.array([1.0, frame.v[1] * sign])
+        q = frame.to_2d(points)
+        q[:, 1] *= sign
+        return q
+    return f
+
+
+def cut(mesh: Mesh, origin, normal) -> Cut:
+    """Cut a solid by a plane into two closed parts, each capped on the plane.
+
+    Parameters
+    ----------
+    mesh : Mesh
+        Ideally watertight with outward normals; otherwise what closes is
+        capped and the rest is reported (`CutWarning`, ``report``).
+    origin, normal : (3,) array_like
+        The plane; any direction, need not be unit length.
+
+    Returns
+    -------
+    Cut
+        ``(rear, front)``: `rear` is the side against `normal`. Each part is
+        watertight (every edge shared by two facets, walked once each way,
+        normals outward) when the input is. ``cut(...).report`` holds the caps.
+
+    Examples
+    --------
+    >>> from slicelab.samples import box
+    >>> from slicelab import check
+    >>> rear, front = cut(box((0, 0, 0), (2, 2, 2)), (0, 0, 0.5), (0, 0, 1))
+    >>> [(check(p).watertight, round(check(p).volume, 9)) for p in (rear, front)]
+    [(True, 2.0), (True, 6.0)]
+    """
+    frame = Frame.from_plane(origin, normal)
+    t = mesh.triangles
+    dist = _split_distances(frame, t)
+    front, rear, front_src, rear_src, n_cut = split_facets(t, dist, frame)
+    in_plane = ~np.any(dist != 0, axis=1)
+    n_in_plane = int(np.count_nonzero(in_plane))
+    if n_in_plane:
+        keep = ~in_plane[front_src]
+        front, front_src = front[keep], front_src[keep]
+    # Only facets reaching the plane can have an edge in it.
+    near_r = np.flatnonzero(np.any(dist >= 0, axis=1)[rear_src])
+    near_f = np.flatnonzero(np.any(dist <= 0, axis=1)[front_src])
+    src_r, src_f = rear_src[near_r], front_src[near_f]
+    rs, re = plane_edges(rear[near_r], t[src_r], dist[src_r], -1)
+    fs, fe = plane_edges(front[near_f], t[src_f], dist[src_f], +1)
+    rear_cap = cap_segments(rs, re, _to_2d(frame, False))
+    if _same_edges(rs, re, fe, fs):
+        # The usual case: the section seen from the front is the rear one run backwards.
+        front_cap = rear_cap.reversed()
+    else:
+        # Facets in the plane (or an open input) make the two sides differ: cap each on its own.
+        front_cap = cap_segments(fs, fe, _to_2d(frame, True))
+    report = CutReport(frame, rear_cap, front_cap, int(n_cut), n_in_plane)
+    if not report.closed:
+        warnings.warn(f"cut: the section did not close everywhere ({report.describe()})", CutWarning,
+                      stacklevel=2)
+    return Cut(Mesh(_join(rear, rear_cap)), Mesh(_join(front, front_cap)), report)
+
+
+def _same_edges(a0, a1, b0, b1) -> bool:
+    """Whether two sets of 3-D edges are equal as multisets."""
+    if len(a0) != len(b0):
+        return False
+    if len(a0) == 0:
+        return True
+    a = np.concatenate([a0, a1], axis=1) + 0.0
+    b = np.concatenate([b0, b1], axis=1) + 0.0
+    a = a[np.lexsort(a.T[::-1])]
+    b = b[np.lexsort(b.T[::-1])]
+    return bool(np.array_equal(a, b))
+
+
+def _join(pieces: np.ndarray, cap: Cap) -> np.ndarray:
+    out = np.empty((len(pieces) + len(cap.triangles), 3, 3))
+    out[:len(pieces)] = pieces
+    out[len(pieces):] = cap.vertices
+    return out
+
+
+# ------------------------------------------------------------------ checks
+def watertight_edges(triangles: np.ndarray) -> dict:
+    """Edge-manifold check of a triangle soup with exactly welded corners.
+
+    Returns
+    -------
+    dict
+        ``open`` (edges used once), ``nonmanifold`` (three times or more),
+        ``misoriented`` (two facets walking it the same way) and ``closed``
+        (none of those).
+
+    Examples
+    --------
+    >>> from slicelab.samples import box
+    >>> watertight_edges(box().triangles)["closed"]
+    True
+    """
+    from .topology import edge_table, weld
+    t = np.asarray(triangles, dtype=np.float64).reshape(-1, 3, 3)
+    if len(t) == 0:
+        return {"open": 0, "nonmanifold": 0, "misoriented": 0, "closed": False}
+    _, faces = weld(t)
+    et = edge_table(faces)
+    counts = et["counts"]
+    fwd = np.bincount(et["inverse"], weights=et["forward"], minlength=len(counts))
+    out = {"open": int(np.count_nonzero(counts == 1)), "nonmanifold": int(np.count_nonzero(counts > 2)),
+           "misoriented": int(np.count_nonzero((counts == 2) & (fwd != 1)))}
+    out["closed"] = not any(out.values())
+    return out
+
+
+def triangle_min_angles(points: np.ndarray, triangles: np.ndarray) -> np.ndarray:
+    """Smallest interior angle of each triangle, in degrees (2-D or 3-D points).
+
+    Examples
+    --------
+    >>> triangle_min_angles(np.array([[0, 0], [1, 0], [0, 1]], float), np.array([[0, 1, 2]])).round(6).tolist()
+    [45.0]
+    """
+    p = np.asarray(points, dtype=np.float64)[np.asarray(triangles)]
+    angles = []
+    for k in range(3):
+        a = p[:, (k + 1) % 3] - p[:, k]
+        b = p[:, (k + 2) % 3] - p[:, k]
+        cosang = np.einsum("ij,ij->i", a, b) / np.maximum(np.linalg.norm(a, axis=1) * np.linalg.norm(b, axis=1),
+                                                          1e-300)
+        angles.append(np.degrees(np.arccos(np.clip(cosang, -1, 1))))
+    return np.min(angles, axis=0)
