@@ -32,6 +32,8 @@ _LAZY = {
     "layer_perimeters": "perimeters", "Perimeters": "perimeters",
     "layer_paths": "paths", "LayerPaths": "paths",
     "PrintSettings": "plan", "PrintPlan": "plan", "plan": "plan",
+    "cut": "cut", "Cut": "cut", "CutWarning": "cut",
+    "partition": "partition", "Partition": "partition", "stair_cut": "partition", "StairCut": "partition",
 }
 
 __all__ = ["Mesh", "MeshFileError", "MeshReport", "check", "load", "save", "__version__", *_LAZY]

@@ -319,7 +319,132 @@ def _run_batch(args) -> int:
     print(f"wrote {result.summary}")
     return 1 if result.count("fail") else 0
 
-COMMANDS = ["inspect", "section", "layers", "split", "profile", "batch"]
+# ------------------------------------------------------------------------- cut
+def _add_cut(sub) -> None:
+    p = sub.add_parser("cut", help="cut a solid by a plane into two closed, capped parts",
+                       description="Cut FILE with a plane into two watertight parts, each capped on the "
+                                   "plane with a constrained Delaunay triangulation; write DIR/rear.stl "
+                                   "(the side against the normal), DIR/front.stl and DIR/exploded.png. "
+                                   "Exit status 1 when the section did not close (open input).")
+    p.add_argument("file", type=Path, metavar="FILE")
+    _add_plane_arguments(p)
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="DIR")
+    p.add_argument("--no-preview", action="store_true", help="do not draw exploded.png")
+
+
+def _run_cut(args) -> int:
+    import warnings
+
+    from .check import check
+    from .cut import CutWarning, cut
+    from .io import load, save
+    origin, normal = _plane(args)
+    if args.output.exists() and not args.output.is_dir():
+        raise UsageError(f"{args.output} exists and is not a directory")
+    t0 = time.perf_counter()
+    mesh = load(args.file)
+    t1 = time.perf_counter()
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", CutWarning)  # reported below
+        parts = cut(mesh, origin, normal)
+    t2 = time.perf_counter()
+    args.output.mkdir(parents=True, exist_ok=True)
+    for name, part in (("rear", parts.rear), ("front", parts.front)):
+        save(part, args.output / f"{name}.stl")
+    if not args.no_preview:
+        from .partition import save_exploded_png
+        save_exploded_png(parts, args.output / "exploded.png", spread=0.35,
+                          title=f"{args.file.name}: cut")
+    t3 = time.perf_counter()
+    rep = parts.report
+    print(f"{args.file}: {len(mesh)} facets; {rep.describe()}")
+    for name, part in (("rear", parts.rear), ("front", parts.front)):
+        r = check(part)
+        print(f"{name}.stl: {r.n_facets} facets, volume {r.volume:.6g} mm3, "
+              f"{'watertight' if r.watertight and r.winding_consistent else 'NOT watertight'}")
+    print(f"load {t1 - t0:.2f} s, cut {t2 - t1:.2f} s, write {t3 - t2:.2f} s; wrote {args.output}/")
+    if not rep.closed:
+        print("slicelab: warning: the section did not close everywhere (open input); "
+              "the parts are not watertight", file=sys.stderr)
+        return 1
+    return 0
+
+
+# ------------------------------------------------------------------- partition
+def _volume(text: str) -> tuple:
+    parts = text.lower().replace(",", "x").split("x")
+    try:
+        values = tuple(float(v) for v in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a build volume like 200x200x200, got {text!r}") from None
+    if len(values) != 3 or not all(np.isfinite(v) and v > 0 for v in values):
+        raise argparse.ArgumentTypeError(f"expected three positive sizes like 200x200x200, got {text!r}")
+    return values
+
+
+def _pair(text: str) -> tuple:
+    try:
+        values = tuple(float(v) for v in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected HEIGHT,DEPTH like 10,15, got {text!r}") from None
+    if len(values) != 2 or not all(np.isfinite(v) and v > 0 for v in values):
+        raise argparse.ArgumentTypeError(f"expected two positive sizes like 10,15, got {text!r}")
+    return values
+
+
+def _add_partition(sub) -> None:
+    p = sub.add_parser("partition", help="cut a solid into pieces that fit a printer's build volume",
+                       description="Cut FILE recursively until every piece fits the build volume; write "
+                                   "DIR/part_NNN.stl, DIR/parts.json (sizes, turns, glue areas) and "
+                                   "DIR/exploded.png.")
+    p.add_argument("file", type=Path, metavar="FILE")
+    p.add_argument("--volume", type=_volume, required=True, metavar="XxYxZ",
+                   help="build volume in mm, e.g. 200x200x200")
+    p.add_argument("--joint", choices=("flat", "stair"), default="flat",
+                   help="flat cuts, or interlocking stair joints with at least twice the glue area")
+    p.add_argument("--clearance", type=float, default=0.0, metavar="MM", help="glue gap (default 0)")
+    p.add_argument("--step", type=_pair, default=(10.0, 15.0), metavar="H,D",
+                   help="stair step height and depth in mm (default 10,15)")
+    p.add_argument("--flight", type=int, default=1, metavar="N",
+                   help="stair steps up before stepping down (default 1: castellated)")
+    p.add_argument("--no-rotate", action="store_true", help="do not turn pieces about z to fit")
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="DIR")
+    p.add_argument("--no-preview", action="store_true", help="do not draw exploded.png")
+
+
+def _run_partition(args) -> int:
+    from .io import load, save
+    from .partition import partition
+    if args.output.exists() and not args.output.is_dir():
+        raise UsageError(f"{args.output} exists and is not a directory")
+    if not (args.clearance >= 0 and np.isfinite(args.clearance)):
+        raise UsageError("--clearance must be a number >= 0")
+    if args.flight < 1:
+        raise UsageError("--flight must be at least 1")
+    t0 = time.perf_counter()
+    mesh = load(args.file)
+    t1 = time.perf_counter()
+    parts = partition(mesh, args.volume, joint=args.joint, clearance=args.clearance, step=args.step,
+                      flight=args.flight, rotate=not args.no_rotate)
+    t2 = time.perf_counter()
+    args.output.mkdir(parents=True, exist_ok=True)
+    width = max(3, len(str(len(parts))))
+    for k, part in enumerate(parts):
+        save(part, args.output / f"part_{k:0{width}d}.stl")
+    with atomic_open(args.output / "parts.json", "w", encoding="utf-8") as fh:
+        json.dump({"file": str(args.file), **parts.report.to_dict()}, fh, indent=1)
+    if not args.no_preview:
+        from .partition import save_exploded_png
+        save_exploded_png(parts, args.output / "exploded.png",
+                          title=f"{args.file.name}: {len(parts)} pieces, {args.joint} joints")
+    t3 = time.perf_counter()
+    print(f"{args.file}: {len(mesh)} facets")
+    print(parts.report.describe())
+    print(f"load {t1 - t0:.2f} s, partition {t2 - t1:.2f} s, write {t3 - t2:.2f} s; wrote {args.output}/")
+    return 0 if parts.report.watertight else 1
+
+
+COMMANDS = ["inspect", "section", "layers", "split", "profile", "batch", "cut", "partition"]
 
 
 def build_parser() -> argparse.ArgumentParser:
