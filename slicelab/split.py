@@ -115,7 +115,9 @@ def corner_distances(frame: Frame, triangles: np.ndarray) -> np.ndarray:
     pieces of no area (a cut point that rounds onto a corner). Distances
     smaller than a bound on that rounding error are therefore set to zero:
     such a corner is taken to be in the plane, for the split and its section
-    alike.
+    alike. For every plane, distances below 2^-480 mm (about 1e-145) are zero
+    too: pieces cut that close to a corner would have an area (about the
+    distance squared) that no double can hold.
 
     Parameters
     ----------
@@ -134,11 +136,11 @@ def corner_distances(frame: Frame, triangles: np.ndarray) -> np.ndarray:
     (True, 0.0)
     """
     if frame.horizontal:  # z - z0: the sign is exact
-        return plane_distances(frame, triangles)
+        return _snap(plane_distances(frame, triangles), _TINY)
     dist = np.empty(triangles.shape[:2])
     o = frame.origin
     n0, n1, n2 = frame.normal
-    snap = np.count_nonzero(frame.normal) > 1
+    oblique = np.count_nonzero(frame.normal) > 1
     reach = 0.0  # the largest |p - origin| along any axis
     for s in range(0, len(triangles), _CHUNK):  # over blocks of facets, not facets
         d = triangles[s:s + _CHUNK] - o
@@ -146,15 +148,25 @@ def corner_distances(frame: Frame, triangles: np.ndarray) -> np.ndarray:
         x += d[..., 1] * n1  # same operations in the same order as Frame.distances
         x += d[..., 2] * n2
         dist[s:s + _CHUNK] = x
-        if snap and len(d):
+        if oblique and len(d):
             reach = max(reach, float(d.max()), -float(d.min()))
-    if snap:
+    bound = _TINY
+    if oblique:
         # Rounding of p - o, of the products and of the sums is a few ulps of these terms.
         size = (reach + float(np.abs(o).max())) * float(np.abs(frame.normal).sum())
-        bound = 64 * np.finfo(np.float64).eps * size
-        for s in range(0, len(dist), _CHUNK):
-            x = dist[s:s + _CHUNK]
-            x[np.abs(x) <= bound] = 0.0
+        bound = max(bound, 64 * np.finfo(np.float64).eps * size)
+    return _snap(dist, bound)
+
+
+# Distances below this (mm) count as zero for every plane: a cut that close to a corner would
+# make pieces whose area (about the distance squared) is below the smallest double.
+_TINY = 2.0 ** -480
+
+
+def _snap(dist: np.ndarray, bound: float) -> np.ndarray:
+    for s in range(0, len(dist), _CHUNK):  # over blocks of facets, not facets
+        x = dist[s:s + _CHUNK]
+        x[np.abs(x) <= bound] = 0.0
     return dist
 
 

@@ -51,15 +51,8 @@ def open_edges(tris):
 
 
 def section_edges_3d(s: Split):
-    """The section's segments in world coordinates, opposite pairs cancelled (a ridge owned twice)."""
-    seg = s.section.segments
-    frame = s.section.frame
-    if frame.horizontal:  # exact inverse of the plane coordinates (x, +-y)
-        p = np.concatenate([seg[..., :1], seg[..., 1:] * frame.v[1], np.full(seg.shape[:-1] + (1,),
-                                                                              frame.origin[2])], axis=-1)
-    else:
-        p = frame.to_3d(seg)
-    return p
+    """The section's segments in world coordinates (to rounding)."""
+    return s.section.frame.to_3d(s.section.segments)
 
 
 def check_split(mesh: Mesh, s: Split, origin, normal, *, closed=True):
@@ -90,10 +83,11 @@ def check_split(mesh: Mesh, s: Split, origin, normal, *, closed=True):
         np.testing.assert_array_equal(out.file_normals, mesh.file_normals[src])
         np.testing.assert_allclose(out.normals[big], Mesh(t[big]).normals, atol=1e-6)
 
-    # Each side is on its side (cut points lie in the plane, up to rounding off horizontal planes).
-    tol = 0.0 if frame.horizontal else 1e-12 * scale
-    assert np.all(plane_distances(frame, ft) >= -tol) if len(ft) else True
-    assert np.all(plane_distances(frame, rt) <= tol) if len(rt) else True
+    # Each side is on its side, by the distances split uses (cut points lie exactly in a plane
+    # x, y or z = const, and within rounding of any other plane).
+    tol = 0.0 if np.count_nonzero(frame.normal) == 1 else 1e-12 * scale
+    assert np.all(corner_distances(frame, ft) >= -tol) if len(ft) else True
+    assert np.all(corner_distances(frame, rt) <= tol) if len(rt) else True
 
     # Facets the plane does not cross are kept whole, bit for bit, on their side; a crossed
     # facet counts as cut when pieces of it went both ways (a sliver can round away).
@@ -112,13 +106,16 @@ def check_split(mesh: Mesh, s: Split, origin, normal, *, closed=True):
         both = slicelab.check(Mesh(np.concatenate([ft, rt])))
         assert both.watertight and both.n_misoriented_edges == 0
         # The front's open edges are the section's segments, in their direction; the rear's run back.
-        sec = section_edges_3d(s)
+        sec = s.section.segments if frame.horizontal else section_edges_3d(s)
         for edges, expect in ((open_edges(ft) if len(ft) else np.zeros((0, 2, 3)), sec),
                               (open_edges(rt) if len(rt) else np.zeros((0, 2, 3)), sec[:, ::-1])):
             expect = _cancel_pairs(expect)
-            if frame.horizontal:  # plane coordinates are exact copies of x, y: the very points
-                assert sorted(map(tuple, edges.reshape(-1, 6).tolist())) == \
-                    sorted(map(tuple, expect.reshape(-1, 6).tolist()))
+            if frame.horizontal:
+                # Plane coordinates are exact copies of x and +-y: the cut points are the very
+                # points of the section.
+                flat = np.concatenate([edges[..., :1], edges[..., 1:2] * frame.v[1]], axis=-1)
+                assert sorted(map(tuple, flat.reshape(-1, 4).tolist())) == \
+                    sorted(map(tuple, expect.reshape(-1, 4).tolist()))
             else:
                 # The section interpolates in plane coordinates, so its points agree to rounding;
                 # where a corner lies within rounding of the plane, one of the two may have a
@@ -135,14 +132,16 @@ def check_split(mesh: Mesh, s: Split, origin, normal, *, closed=True):
 
 def _cancel_pairs(seg):
     """Drop segment pairs that run the same edge both ways (exactly equal end points)."""
-    key = Counter(tuple(r) for r in seg.reshape(-1, 6).tolist())
+    width = seg.shape[1] * seg.shape[2]
+    key = Counter(tuple(r) for r in seg.reshape(-1, width).tolist())
+    half = width // 2
     for t in list(key):
-        rev = t[3:] + t[:3]
+        rev = t[half:] + t[:half]
         if rev != t and key[t] and key.get(rev):
             k = min(key[t], key[rev])
             key[t] -= k
             key[rev] -= k
-    return np.array([t for t, c in key.items() for _ in range(c)], float).reshape(-1, 2, 3)
+    return np.array([t for t, c in key.items() for _ in range(c)], float).reshape(-1, *seg.shape[1:])
 
 
 def volumes_by_manifold(mesh, origin, normal):
