@@ -161,16 +161,26 @@ def _normal_lines_axis(t: np.ndarray, area: np.ndarray, centroid: np.ndarray, sc
     n = n[ok] / length[ok, None]
     p, w = p[ok], area[ok]
     lines = np.hstack([np.cross(p, n), n])  # residual = lines @ [a, a_bar]
-    M = np.einsum("n,ni,nj->ij", w, lines, lines)
-    A, B, C = M[:3, :3], M[:3, 3:], M[3:, 3:]
-    # Minimise over a_bar for each a, then over unit a: a Schur complement eigenproblem.
-    Cinv = np.linalg.pinv(C)
-    S = A - B @ Cinv @ B.T
-    _, vec = np.linalg.eigh((S + S.T) / 2)
-    a = vec[:, 0]
-    a_bar = -Cinv @ B.T @ a
+    wk = w
+    for _ in range(4):  # reweighted: handles, spouts and lugs, whose normals miss the axis, lose their say
+        M = np.einsum("n,ni,nj->ij", wk, lines, lines)
+        A, B, C = M[:3, :3], M[:3, 3:], M[3:, 3:]
+        # Minimise over a_bar for each a, then over unit a: a Schur complement eigenproblem.
+        Cinv = np.linalg.pinv(C)
+        S = A - B @ Cinv @ B.T
+        _, vec = np.linalg.eigh((S + S.T) / 2)
+        a = vec[:, 0]
+        a_bar = -Cinv @ B.T @ a
+        wk = _tukey(lines @ np.concatenate([a, a_bar]), w, 1e-9)
     point = np.cross(a, a_bar)  # foot of the axis line (direction a, moment a_bar) on the origin
     return centroid + scale * point, a
+
+
+def _tukey(e: np.ndarray, w: np.ndarray, floor: float) -> np.ndarray:
+    """Weights `w` times Tukey's biweight of residuals `e`: beyond 4.685 robust sigmas, no say."""
+    sigma = max(1.4826 * float(np.median(np.abs(e))), floor)
+    u = e / (4.685 * sigma)
+    return w * np.where(np.abs(u) < 1, (1 - u * u) ** 2, 0.0)
 
 
 def _rings(points: np.ndarray, direction: np.ndarray, weight: np.ndarray, centre: np.ndarray):
@@ -188,7 +198,9 @@ def _rings(points: np.ndarray, direction: np.ndarray, weight: np.ndarray, centre
         rs = r[order]
         cut = np.flatnonzero(np.diff(rs) > max(1.0, 0.1 * float(np.median(rs)))) + 1
         for part in np.split(order, cut):  # a few walls per height, not points
-            if len(part) >= 8 and weight[part].sum() > 0:
+            # A wall goes round the axis; a handle's or a lug's loop sits to one side of it.
+            sector = np.unique((np.arctan2(rel[part, 1], rel[part, 0]) * (18 / np.pi)).astype(np.int64))
+            if len(part) >= 8 and weight[part].sum() > 0 and len(sector) >= 12:
                 label[part] = k
                 k += 1
     return label, k
@@ -198,8 +210,9 @@ def _circle_pass(t: np.ndarray, point: np.ndarray, direction: np.ndarray, n_plan
     """Fit concentric circles to horizontal sections in the frame of an axis guess.
 
     Returns the line through the fitted centres (point, direction, in input
-    coordinates) and the RMS radial residual about that line, absolute and
-    relative, or None when no section has a usable wall.
+    coordinates) and (RMS radial residual about that line, the same relative
+    to the mean radius, median relative deviation), or None when no section
+    has a usable wall.
     """
     R = rotation_to_z(direction)
     local = (t - point) @ R.T
@@ -229,42 +242,68 @@ def _circle_pass(t: np.ndarray, point: np.ndarray, direction: np.ndarray, n_plan
         A = np.zeros((len(p), 2 + k))
         A[:, 0], A[:, 1] = 2 * p[:, 0], 2 * p[:, 1]
         A[np.arange(len(p)), 2 + label] = 1.0
-        sw = np.sqrt(w)
-        sol = np.linalg.lstsq(A * sw[:, None], (p ** 2).sum(axis=1) * sw, rcond=None)[0]
-        fits.append((h, sol[0], sol[1], w.sum(), p, w, label, k))
+        b = (p ** 2).sum(axis=1)
+        wk = w
+        for _ in range(3):  # reweighted: a spout's bump on the outline loses its say
+            sw = np.sqrt(wk)
+            sol = np.linalg.lstsq(A * sw[:, None], b * sw, rcond=None)[0]
+            radius = np.sqrt(np.maximum(sol[2:] + sol[0] ** 2 + sol[1] ** 2, 0.0))
+            e = np.hypot(p[:, 0] - sol[0], p[:, 1] - sol[1]) - radius[label]
+            wk = _tukey(e, w, 1e-9 * float(radius.mean()) + 1e-300)
+        fits.append((h, sol[0], sol[1], wk.sum(), p, w, label, k))
     if len(fits) < 2:
         return None
     h, cx, cy, W = (np.array([f[i] for f in fits]) for i in range(4))
-    G = np.stack([np.ones_like(h), h], axis=1) * np.sqrt(W)[:, None]
-    (x0, kx), (y0, ky) = (np.linalg.lstsq(G, c * np.sqrt(W), rcond=None)[0] for c in (cx, cy))
+    Wk = W
+    for _ in range(3):  # reweighted over planes too: a height through a handle may still stray
+        G = np.stack([np.ones_like(h), h], axis=1) * np.sqrt(Wk)[:, None]
+        (x0, kx), (y0, ky) = (np.linalg.lstsq(G, c * np.sqrt(Wk), rcond=None)[0] for c in (cx, cy))
+        Wk = _tukey(np.hypot(cx - (x0 + kx * h), cy - (y0 + ky * h)), W, 1e-9 * (z1 - z0))
+        if not Wk.sum() > 0:
+            Wk = W
+            break
     # Residual of the revolution model: radii about the fitted line, one radius per wall.
-    sq = wsum = rsum = 0.0
+    errors, weights, rsum = [], [], 0.0
     for (hj, _, _, _, p, w, label, k) in fits:  # over planes
         r = np.hypot(p[:, 0] - (x0 + kx * hj), p[:, 1] - (y0 + ky * hj))
         radius = np.bincount(label, w * r, k) / np.bincount(label, w, k)
-        sq += float((w * (r - radius[label]) ** 2).sum())
-        wsum += float(w.sum())
+        errors.append(r - radius[label])
+        weights.append(w)
         rsum += float((w * radius[label]).sum())
-    rms = math.sqrt(sq / wsum)
+    e, w = np.abs(np.concatenate(errors)), np.concatenate(weights)
+    rms = math.sqrt(float((w * e * e).sum() / w.sum()))
+    mean_r = rsum / w.sum()
+    # The median deviation judges between axes: a spout or a handle moves the RMS, not the median.
+    o = np.argsort(e)
+    median = float(e[o][np.searchsorted(np.cumsum(w[o]), 0.5 * w.sum())])
     new_dir = R.T @ np.array([kx, ky, 1.0])
     new_dir /= np.linalg.norm(new_dir)
-    return point + R.T @ np.array([x0, y0, 0.0]), new_dir, rms, rms / (rsum / wsum)
+    return point + R.T @ np.array([x0, y0, 0.0]), new_dir, (rms, rms / mean_r, median / mean_r)
 
 
 def _refine(t, point, direction, iterations: int = 6):
-    best = None
-    for _ in range(iterations):  # a few Gauss-Newton-like passes
+    """Repeat circle passes from an axis guess; keep the axis with the smallest residual seen.
+
+    On a true body of revolution every pass improves and the passes converge;
+    on a teapot (spout, handle) they can wander, and the best one is kept.
+    """
+    best = (point, direction, None)
+    for _ in range(iterations):  # a few fixed-point passes
         fit = _circle_pass(t, point, direction)
         if fit is None:
             break
-        new_point, new_dir, rms, rel = fit
+        new_point, new_dir, res = fit
         if new_dir @ direction < 0:
             new_dir = -new_dir
         turn = math.acos(min(1.0, abs(float(new_dir @ direction))))
-        point, direction, best = new_point, new_dir, (rms, rel)
+        point, direction = new_point, new_dir
+        if best[2] is None or res[2] <= 1.02 * best[2][2]:  # ties go to the later, more converged pass
+            best = (point, direction, res)
+        elif res[2] > 1.5 * best[2][2]:
+            break  # wandering off
         if turn < 1e-6:
             break
-    return point, direction, best
+    return best
 
 
 def _up_sign(t: np.ndarray, area: np.ndarray, point: np.ndarray, direction: np.ndarray, mesh: Mesh):
@@ -340,22 +379,28 @@ def align(mesh: Mesh) -> Alignment:
     t = _fit_sample(mesh.triangles)
     area, centroid, cov = _surface_moments(t)
     scale = math.sqrt(float(np.trace(cov))) or 1.0
-    starts = {"normals": _normal_lines_axis(t, area, centroid, scale),
-              "principal axes": (centroid, _principal_axis(cov))}
-    results = {}
-    for name, (p, d) in starts.items():  # two starts, a few passes each
-        if results:
-            (q, e, fit), = results.values()
-            if (fit is not None and fit[1] <= 0.01) or abs(float(d @ e)) > math.cos(math.radians(3)):
-                break  # the first start fits well, or both lie in the same basin
-        results[name] = _refine(t, p, d)
-    fitted = {k: v for k, v in results.items() if v[2] is not None}
+    # Starts in order of trust; the next is tried only while the best fit is poor (over 1 %), and
+    # never twice in one basin. The other two principal axes come last: a jug's handle can make
+    # the wrong eigenvalue stand apart.
+    _, eig = np.linalg.eigh(cov)
+    apart = _principal_axis(cov)
+    starts = [("normals", _normal_lines_axis(t, area, centroid, scale)), ("principal axes", (centroid, apart))]
+    starts += [("principal axes", (centroid, v)) for v in eig.T if abs(float(v @ apart)) < 0.5]
+    results, tried = [], []
+    for name, (p, d) in starts:  # at most four starts, a few passes each
+        fits = [r[3][2] for r in results if r[3] is not None]
+        if fits and min(fits) <= 0.01:
+            break
+        if any(abs(float(d @ e)) > math.cos(math.radians(3)) for e in tried):
+            continue
+        tried.append(d)
+        results.append((name, *_refine(t, p, d)))
+        tried.append(results[-1][2])
+    fitted = [r for r in results if r[3] is not None]
     if fitted:
-        method = min(fitted, key=lambda k: fitted[k][2][1])
-        point, direction, (rms, rel) = fitted[method]
+        method, point, direction, (rms, rel, _) = min(fitted, key=lambda r: r[3][2])
     else:
-        method = "normals"
-        point, direction, _ = results[method]
+        method, point, direction, _ = results[0]
         rms = rel = math.inf
     direction = direction / np.linalg.norm(direction)
     sign, cue = _up_sign(t, area, point, direction, mesh)
@@ -612,9 +657,10 @@ def _rms_distance(a: np.ndarray, b: np.ndarray, tree_a, tree_b) -> float:
 class Measurements:
     """A vessel's measurements from its half-sections (mm, mm^3).
 
-    Diameters and volumes average all half-sections (uniform angles: the
-    volume average is a quadrature of the volume integral in cylindrical
-    coordinates). Wall thickness is perpendicular (what calipers give), pooled
+    Diameters, heights and thicknesses are medians over the half-sections (a
+    handle in one half does not move them); volumes are means (uniform angles:
+    the mean is a quadrature of the volume integral in cylindrical
+    coordinates, handle included). Wall thickness is perpendicular (what calipers give), pooled
     over every half, floor and rim excluded. Capacity is the cavity filled to
     the lowest rim top, by Pappus' theorem.
     """
@@ -724,13 +770,17 @@ def _measure(halves: list[HalfProfile], height: float, spread: float, residual: 
         x = np.asarray(x, dtype=float)
         return float(np.mean(x)) if len(x) else nan
 
+    def median(x):  # lengths read off single halves: a handle or a spout in one half must not move them
+        x = np.asarray(x, dtype=float)
+        return float(np.median(x)) if len(x) else nan
+
     return Measurements(
-        height=float(height), rim_diameter=2 * mean(rim), max_diameter=2 * mean(rmax),
-        max_diameter_height=mean(zmax), base_diameter=2 * mean(base),
+        height=float(height), rim_diameter=2 * median(rim), max_diameter=2 * median(rmax),
+        max_diameter_height=median(zmax), base_diameter=2 * median(base),
         wall_thickness_min=float(t.min()) if len(t) else nan,
         wall_thickness_mean=float((t * w).sum() / w.sum()) if len(t) else nan,
         wall_thickness_max=float(t.max()) if len(t) else nan,
-        base_thickness=mean(base_t), capacity=mean(cap), clay_volume=mean(clay),
+        base_thickness=median(base_t), capacity=mean(cap), clay_volume=mean(clay),
         halves=len(halves), spread=float(spread), residual=float(residual))
 
 
