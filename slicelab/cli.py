@@ -403,8 +403,8 @@ def _add_partition(sub) -> None:
     p.add_argument("--joint", choices=("flat", "stair"), default="flat",
                    help="flat cuts, or interlocking stair joints with at least twice the glue area")
     p.add_argument("--clearance", type=float, default=0.0, metavar="MM", help="glue gap (default 0)")
-    p.add_argument("--step", type=_pair, default=(10.0, 15.0), metavar="H,D",
-                   help="stair step height and depth in mm (default 10,15)")
+    p.add_argument("--step", type=_pair, default=(10.0, 20.0), metavar="H,D",
+                   help="stair step height and depth in mm (default 10,20)")
     p.add_argument("--flight", type=int, default=1, metavar="N",
                    help="stair steps up before stepping down (default 1: castellated)")
     p.add_argument("--no-rotate", action="store_true", help="do not turn pieces about z to fit")

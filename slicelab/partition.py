@@ -479,7 +479,7 @@ def _dilate(bands: np.ndarray, q: np.ndarray, c: float) -> tuple[np.ndarray, np.
     return cuts[keep[1:]], qq[keep]
 
 
-def stair_cut(mesh: Mesh, axis: int, position: float, *, step=(10.0, 15.0), flight: int = 1,
+def stair_cut(mesh: Mesh, axis: int, position: float, *, step=(10.0, 20.0), flight: int = 1,
               step_axis: int | None = None, phase: int = 0, clearance: float = 0.0) -> StairCut:
     """Cut a closed part across `axis` with an interlocking stair-shaped joint.
 
@@ -491,10 +491,12 @@ def stair_cut(mesh: Mesh, axis: int, position: float, *, step=(10.0, 15.0), flig
         The cut runs across this axis; `rear` is the low side.
     position : float
         The lowest tread (mm); the others lie up to ``flight * depth`` beyond.
-    step : (height, depth), default (10, 15)
+    step : (height, depth), default (10, 20)
         Band height along the step axis and tread offset along `axis` (mm).
         The height shrinks (the depth with it) to give the section at least
-        four bands. A depth of 1.5 heights gives about 2.3x the flat glue area.
+        four bands. Each band edge adds a riser ``depth`` deep, so the glue
+        area is about ``1 + depth / height`` times the flat one for a full
+        section (2.5x for a box with four bands), less for thin rings.
     flight : int, default 1
         Steps up before stepping down again: 1 is a castellated joint
         (0, d, 0, d ...), 2 a stair going 0, d, 2d, d, 0 ...
@@ -590,7 +592,8 @@ def fit_rotation(mesh: Mesh, build_volume, *, rotate: bool = True) -> float | No
 
     Tries the part as it lies, then (with `rotate`) turned by 90 degrees, then
     every direction of an edge of its convex hull in plan (the smallest
-    enclosing rectangles are aligned with one).
+    enclosing rectangles are aligned with one) and every half degree (a long
+    part may only fit along the diagonal).
 
     Examples
     --------
@@ -619,7 +622,8 @@ def fit_rotation(mesh: Mesh, build_volume, *, rotate: bool = True) -> float | No
     except Exception:  # flat or degenerate outline
         return None
     edges = np.roll(hull, -1, axis=0) - hull
-    ang = np.arctan2(edges[:, 1], edges[:, 0])
+    # Hull edge directions hold the smallest rectangles; a sweep finds the diagonal fits.
+    ang = np.concatenate([np.arctan2(edges[:, 1], edges[:, 0]) % (np.pi / 2), np.radians(np.arange(0.5, 90, 0.5))])
     c, s = np.cos(ang), np.sin(ang)
     u = hull @ np.stack([c, s])           # extents along each edge direction
     v = hull @ np.stack([-s, c])
@@ -699,7 +703,7 @@ def _bodies(m: Mesh) -> list[Mesh]:
 
 # ------------------------------------------------------------------ partition
 def partition(mesh: Mesh, build_volume=(200.0, 200.0, 200.0), *, joint: str = "flat", clearance: float = 0.0,
-              step=(10.0, 15.0), flight: int = 1, rotate: bool = True, candidates: int = 9,
+              step=(10.0, 20.0), flight: int = 1, rotate: bool = True, candidates: int = 9,
               max_pieces: int = 512) -> Partition:
     """Cut a solid recursively until every piece fits the build volume.
 
@@ -826,10 +830,19 @@ def _cut_joint(m: Mesh, axis: int, pos: float, joint: str, clearance: float, ste
         others = [k for k in range(3) if k != axis]
         for step_axis in (None, *others):
             for phase in (0, 1):
-                try:
-                    sc = stair_cut(m, axis, pos, step=step, flight=flight, step_axis=step_axis, phase=phase,
-                                   clearance=clearance)
-                except (_StairFailed, ValueError):
+                h = float(step[0])
+                for _ in range(3):  # narrower bands add risers where the glue area falls short of 2x
+                    try:
+                        sc = stair_cut(m, axis, pos, step=(h, step[1]), flight=flight, step_axis=step_axis,
+                                       phase=phase, clearance=clearance)
+                    except (_StairFailed, ValueError):
+                        sc = None
+                        break
+                    ratio = sc.glue_area / sc.flat_area if sc.flat_area > 0 else 0.0
+                    if ratio >= 2.0 or ratio <= 1.0:
+                        break
+                    h = min(sc.step[0], h) * (ratio - 1.0) / 1.15
+                if sc is None:
                     continue
                 if flat_shells is None:
                     with warnings.catch_warnings():
