@@ -75,7 +75,7 @@ def test_align_recovers_axis_rim_up_and_base_at_zero(scans, case):
     assert angle_deg(a.axis, true_axis(motion)) <= 0.5
     assert a.up_from == "base"
     lo, hi = a.mesh.bounds
-    assert lo[2] == pytest.approx(0.0, abs=1e-9)
+    assert lo[2] == 0.0
     assert hi[2] == pytest.approx(POT["height"], abs=2.0)
     # The axis passes through the origin: the true base centre (moved) lands there.
     base_centre = (motion @ [0.0, 0.0, 0.0, 1.0])[:3]
