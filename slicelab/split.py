@@ -20,8 +20,6 @@ keep their facet's winding and normal, and no piece has two equal corners.
 """
 from __future__ import annotations
 
-import sys
-import types
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -348,19 +346,3 @@ def _pieces_mesh(triangles: np.ndarray, source: Mesh, src: np.ndarray) -> Mesh:
         object.__setattr__(mesh, name, value)
     return mesh
 
-
-class _CallableModule(types.ModuleType):
-    """This module, callable as `split`.
-
-    ``slicelab.split`` names both this module and its function. The package
-    binds the function lazily, but importing the module first (``from
-    slicelab.split import classify``, the CLI, doctest collection) makes the
-    import system bind the module to that name instead; calling it must still
-    split.
-    """
-
-    def __call__(self, *args, **kwargs) -> Split:
-        return split(*args, **kwargs)
-
-
-sys.modules[__name__].__class__ = _CallableModule
