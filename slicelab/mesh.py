@@ -182,8 +182,9 @@ class Mesh:
         m = np.asarray(matrix, dtype=np.float64)
         if m.shape != (4, 4):
             raise ValueError(f"matrix must be 4x4, got {m.shape}")
-        t = self.triangles @ m[:3, :3].T + m[:3, 3]
-        fn = self.file_normals @ np.linalg.inv(m[:3, :3])  # normals move by the inverse transpose
+        # einsum, not matmul: a threaded BLAS on (n, 3) x (3, 3) is slow and fights for the cores.
+        t = np.einsum("...j,ij->...i", self.triangles, m[:3, :3]) + m[:3, 3]
+        fn = np.einsum("...j,ji->...i", self.file_normals, np.linalg.inv(m[:3, :3]))  # inverse transpose
         if np.linalg.det(m[:3, :3]) < 0:
             t = t[:, ::-1]
         lengths = np.linalg.norm(fn, axis=1, keepdims=True)
