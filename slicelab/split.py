@@ -113,9 +113,10 @@ def corner_distances(frame: Frame, triangles: np.ndarray) -> np.ndarray:
     pieces of no area (a cut point that rounds onto a corner). Distances
     smaller than a bound on that rounding error are therefore set to zero:
     such a corner is taken to be in the plane, for the split and its section
-    alike. For every plane, distances below 2^-480 mm (about 1e-145) are zero
+    alike. For every plane, distances below 2^-240 mm (about 6e-73) are zero
     too: pieces cut that close to a corner would have an area (about the
-    distance squared) that no double can hold.
+    distance squared) too small for its square to be a double, so any norm
+    would find it zero.
 
     Parameters
     ----------
@@ -156,9 +157,10 @@ def corner_distances(frame: Frame, triangles: np.ndarray) -> np.ndarray:
     return _snap(dist, bound)
 
 
-# Distances below this (mm) count as zero for every plane: a cut that close to a corner would
-# make pieces whose area (about the distance squared) is below the smallest double.
-_TINY = 2.0 ** -480
+# Distances below this (mm, about 6e-73) count as zero for every plane: a cut that close to a
+# corner makes pieces whose area is about the distance squared, and whose squared area (as any
+# norm computes it) would underflow to zero.
+_TINY = 2.0 ** -240
 
 
 def _snap(dist: np.ndarray, bound: float) -> np.ndarray:
@@ -179,10 +181,12 @@ def _cut(c: np.ndarray, d: np.ndarray, frame: Frame | None):
     p_up = edge_points(c, d, r, up, _NEXT[up])        # on the edge going rear -> front
     if frame is not None and np.count_nonzero(frame.normal) == 1:
         # A plane x, y or z = const: put the cut points exactly in it, like the section's
-        # points (a corner in the plane already is), so none rounds onto a corner off it.
+        # points, so none rounds onto a corner off it. A corner taken to be in the plane is
+        # kept as it is (its distance may have been snapped to zero).
         axis = int(np.flatnonzero(frame.normal)[0])
-        p_down[:, axis] = frame.origin[axis]
-        p_up[:, axis] = frame.origin[axis]
+        level = frame.origin[axis]
+        p_down[:, axis] = np.where(d[r, down] == 0, p_down[:, axis], level)
+        p_up[:, axis] = np.where(d[r, _NEXT[up]] == 0, p_up[:, axis], level)
 
     # Each side's polygon in winding order, 3 or 4 points, fanned from its first point:
     # front is p_up, corners up+1 .. down, p_down; rear is p_down, corners down+1 .. up, p_up.
