@@ -444,7 +444,67 @@ def _run_partition(args) -> int:
     return 0 if parts.report.watertight else 1
 
 
-COMMANDS = ["inspect", "section", "layers", "split", "profile", "batch", "cut", "partition"]
+# ----------------------------------------------------------------------- slice
+def _add_slice(sub) -> None:
+    p = sub.add_parser("slice", help="slice a part into printer G-code (perimeters, skins, infill)",
+                       description="Plan every layer of FILE (perimeters, solid top and bottom skins, "
+                                   "sparse infill) on all cores and write Marlin G-code.")
+    p.add_argument("file", type=Path, metavar="FILE")
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="OUT.gcode")
+    p.add_argument("--layer-height", type=_positive, default=0.2, metavar="H")
+    p.add_argument("--first-layer-height", type=_positive, default=None, metavar="H",
+                   help="default: the layer height")
+    p.add_argument("--line-width", type=_positive, default=0.4, metavar="W")
+    p.add_argument("--perimeters", type=int, default=2, metavar="N")
+    p.add_argument("--infill", type=float, default=20.0, metavar="PERCENT", help="sparse infill density (0-100)")
+    p.add_argument("--infill-angle", type=float, default=45.0, metavar="DEG")
+    p.add_argument("--top-layers", type=int, default=3, metavar="N")
+    p.add_argument("--bottom-layers", type=int, default=3, metavar="N")
+    p.add_argument("--pixel-size", type=_positive, default=0.05, metavar="MM")
+    p.add_argument("--nozzle-temperature", type=float, default=210.0, metavar="C")
+    p.add_argument("--bed-temperature", type=float, default=60.0, metavar="C")
+    p.add_argument("--workers", type=int, default=None, metavar="N", help="processes (default: all cores)")
+    p.add_argument("--preview", type=Path, default=None, metavar="DIR",
+                   help="also write DIR/layer_*.svg and DIR/preview.png")
+
+
+def _run_slice(args) -> int:
+    from .io import load
+    from .plan import PrintSettings, plan
+    if not 0 <= args.infill <= 100:
+        raise UsageError("--infill is a percentage between 0 and 100")
+    for name in ("perimeters", "top_layers", "bottom_layers"):
+        if getattr(args, name) < 0:
+            raise UsageError(f"--{name.replace('_', '-')} must be >= 0")
+    if args.workers is not None and args.workers < 1:
+        raise UsageError("--workers must be at least 1")
+    if args.preview is not None and args.preview.exists() and not args.preview.is_dir():
+        raise UsageError(f"{args.preview} exists and is not a directory")
+    settings = PrintSettings(layer_height=args.layer_height,
+                             first_layer_height=args.first_layer_height or args.layer_height,
+                             line_width=args.line_width, perimeters=args.perimeters,
+                             infill_density=args.infill / 100, infill_angle=args.infill_angle,
+                             top_layers=args.top_layers, bottom_layers=args.bottom_layers,
+                             pixel_size=args.pixel_size, nozzle_temperature=args.nozzle_temperature,
+                             bed_temperature=args.bed_temperature)
+    t0 = time.perf_counter()
+    mesh = load(args.file)
+    t1 = time.perf_counter()
+    pp = plan(mesh, settings, workers=args.workers)
+    t2 = time.perf_counter()
+    pp.to_gcode(args.output)
+    t3 = time.perf_counter()
+    if args.preview is not None:
+        pp.to_svg(args.preview)
+        pp.preview_png(args.preview / "preview.png")
+    print(f"{args.file}: {len(mesh)} facets; {len(pp.layers)} layers, print {pp.print_length / 1000:.1f} m, "
+          f"filament {pp.filament_length / 1000:.2f} m ({pp.extruded_volume / 1000:.2f} cm3)")
+    print(f"load {t1 - t0:.2f} s, plan {t2 - t1:.2f} s, G-code {t3 - t2:.2f} s; wrote {args.output}"
+          + (f" and {args.preview}/" if args.preview is not None else ""))
+    return 0
+
+
+COMMANDS = ["inspect", "section", "layers", "split", "profile", "batch", "cut", "partition", "slice"]
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -134,8 +134,8 @@ def plot_toolpath(paths, ax=None, *, cmap="viridis", lw: float = 1.0, travel: bo
 def plot_coverage(paths, raster=None, ax=None, *, pixel_size: float | None = None):
     """Coverage of the layer by its extrusions drawn at their widths: gaps and double coverage.
 
-    Pixels of material (from `raster`) that nothing covers show red; once
-    covered, light; twice or more, dark.
+    Pixels of material (from `raster`, whose pixel size is then used) that
+    nothing covers show red; once covered, light; twice or more, dark.
 
     Examples
     --------
@@ -148,7 +148,7 @@ def plot_coverage(paths, raster=None, ax=None, *, pixel_size: float | None = Non
     from matplotlib.colors import ListedColormap
     from .paths import coverage_map
     ax = _axes(ax)
-    p = pixel_size or (raster.pixel_size if raster is not None else 0.05)
+    p = raster.pixel_size if raster is not None else (pixel_size or 0.05)
     counts, grid = coverage_map(paths, p)
     img = np.minimum(counts, 3).astype(float)
     if raster is not None:

@@ -71,12 +71,18 @@ def test_lines_lie_on_a_world_anchored_grid_and_alternate():
             a = np.radians(angle)
             n = np.array([-np.sin(a), np.cos(a)])
             d = np.array([np.cos(a), np.sin(a)])
+            on_grid = off_grid = 0.0
             for q in lp.filling_segments:
                 seg = np.diff(q, axis=0)
-                # The fill lines are the segments parallel to d (links follow the boundary).
-                along = np.abs(seg @ n) <= 1e-9 * np.hypot(*seg.T)
-                offs = (q[:-1][along] @ n) / s
-                np.testing.assert_allclose(offs, np.round(offs), atol=1e-6)
+                length = np.hypot(*seg.T)
+                # Fill lines are parallel to d; links follow the boundary (a pixel staircase of
+                # the filling limit may have a few short pieces parallel to d too).
+                along = np.abs(seg @ n) <= 1e-9 * length
+                offs = (q[:-1] @ n) / s
+                grid = np.abs(offs - np.round(offs)) < 1e-6
+                on_grid += length[along & grid].sum()
+                off_grid += length[along & ~grid].sum()
+            assert on_grid > 0 and off_grid < 0.02 * on_grid
 
 
 def test_fill_lines_against_shapely_intersection():

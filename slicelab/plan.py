@@ -1,0 +1,357 @@
+"""Whole-part print planning: layers, top and bottom skins, parallel toolpaths, G-code.
+
+A part is cut once, in one vectorised pass (`slice_layers`), at the middle of
+every layer: the first layer is `first_layer_height` thick, the others
+`layer_height`. Layers are then independent except for one thing, seed 003's
+"first and last layer problem": a region of a layer that the `top_layers`
+layers above (or the `bottom_layers` layers below) do not all cover is top
+(or bottom) skin, and must be filled solid. Masks share one world-anchored
+pixel grid, so a skin is a plain mask difference. Workers take runs of
+consecutive layers and rasterise the few neighbours they need themselves,
+so nothing but sections goes in and toolpaths come out.
+"""
+from __future__ import annotations
+
+import math
+import os
+import sys
+from dataclasses import asdict, dataclass, field, replace
+
+import numpy as np
+
+from .mesh import Mesh
+
+__all__ = ["PrintSettings", "PrintPlan", "plan", "layer_bounds"]
+
+
+@dataclass(frozen=True)
+class PrintSettings:
+    """What a print needs to know (mm, mm/s, degrees Celsius).
+
+    Examples
+    --------
+    >>> PrintSettings(layer_height=0.3).filament_area.__round__(4)
+    2.4053
+    """
+
+    layer_height: float = 0.2
+    first_layer_height: float = 0.2
+    line_width: float = 0.4
+    perimeters: int = 2
+    infill_density: float = 0.2
+    infill_angle: float = 45.0
+    solid_angle: float | None = None
+    top_layers: int = 3
+    bottom_layers: int = 3
+    nozzle_diameter: float = 0.4
+    filament_diameter: float = 1.75
+    extrusion_multiplier: float = 1.0
+    perimeter_speed: float = 40.0
+    external_perimeter_speed: float = 25.0
+    infill_speed: float = 80.0
+    solid_infill_speed: float = 60.0
+    gap_fill_speed: float = 20.0
+    first_layer_speed: float = 20.0
+    travel_speed: float = 150.0
+    retraction_length: float = 0.8
+    retraction_speed: float = 35.0
+    retract_min_travel: float = 1.0
+    z_lift: float = 0.2
+    nozzle_temperature: float = 210.0
+    bed_temperature: float = 60.0
+    pixel_size: float = 0.05
+    infill_overlap: float = 0.15
+    rule: str = "nonzero"
+    bed_center: tuple = (125.0, 105.0)
+
+    def __post_init__(self):
+        positive = ("layer_height", "first_layer_height", "line_width", "nozzle_diameter", "filament_diameter",
+                    "extrusion_multiplier", "perimeter_speed", "external_perimeter_speed", "infill_speed",
+                    "solid_infill_speed", "gap_fill_speed", "first_layer_speed", "travel_speed",
+                    "retraction_speed", "pixel_size")
+        for name in positive:
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and v > 0 and math.isfinite(v)):
+                raise ValueError(f"{name} must be a positive number, got {v!r}")
+        for name in ("perimeters", "top_layers", "bottom_layers"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, np.integer)) and v >= 0):
+                raise ValueError(f"{name} must be a whole number >= 0, got {v!r}")
+        if not 0 <= self.infill_density <= 1:
+            raise ValueError(f"infill_density must be in [0, 1], got {self.infill_density!r}")
+        for name in ("retraction_length", "retract_min_travel", "z_lift"):
+            if getattr(self, name) < 0:
+                raise ValueError(f"{name} must be >= 0, got {getattr(self, name)!r}")
+        if self.rule not in ("nonzero", "evenodd"):
+            raise ValueError(f"rule must be 'nonzero' or 'evenodd', got {self.rule!r}")
+
+    @property
+    def filament_area(self) -> float:
+        """Cross-section of the filament (mm^2)."""
+        return math.pi * (self.filament_diameter / 2) ** 2
+
+
+def layer_bounds(height: float, layer_height: float, first_layer_height: float) -> np.ndarray:
+    """(n, 2) bottom and top of every layer of a part `height` tall, from 0.
+
+    The first layer is `first_layer_height` thick, the others `layer_height`;
+    a layer is printed when its middle lies inside the part.
+
+    Examples
+    --------
+    >>> layer_bounds(1.0, 0.3, 0.2).round(6).tolist()
+    [[0.0, 0.2], [0.2, 0.5], [0.5, 0.8], [0.8, 1.1]]
+    """
+    if height <= 0:
+        return np.zeros((0, 2))
+    n = int(math.ceil(max(0.0, height - first_layer_height) / layer_height)) + 1
+    tops = first_layer_height + layer_height * np.arange(n)
+    bottoms = np.concatenate([[0.0], tops[:-1]])
+    keep = (bottoms + tops) / 2 < height
+    return np.stack([bottoms[keep], tops[keep]], axis=1)
+
+
+@dataclass(frozen=True, eq=False)
+class PrintPlan:
+    """Every layer's toolpaths, bottom to top, with what the print will use.
+
+    Attributes
+    ----------
+    settings : PrintSettings
+    layers : list of LayerPaths
+        ``layers[k].z`` is the top of layer k above the bed (the nozzle height).
+    heights : (n,) ndarray
+        Thickness of each layer.
+    offset : (3,) ndarray
+        Translation from the part's coordinates to the bed's (added in G-code).
+    areas : (n, 4) ndarray
+        Per layer, the material area, the area inside the last perimeter and
+        its solid (skin) part (mm^2), from the rasters, and the length of the
+        sparse filling region's boundary (mm, from its level set).
+    part_volume : float
+        Sum of material area x layer height (mm^3).
+    """
+
+    settings: PrintSettings
+    layers: list
+    heights: np.ndarray
+    offset: np.ndarray
+    areas: np.ndarray
+    part_volume: float = 0.0
+    seconds: dict = field(default_factory=dict)
+
+    def __repr__(self) -> str:
+        return (f"PrintPlan({len(self.layers)} layers, print {self.print_length / 1000:.1f} m, "
+                f"extruded {self.extruded_volume / 1000:.2f} cm3, filament {self.filament_length / 1000:.2f} m)")
+
+    @property
+    def z(self) -> np.ndarray:
+        return np.array([lp.z for lp in self.layers])
+
+    @property
+    def extruded_volume(self) -> float:
+        """Volume of all extrusions, width x layer height x length (mm^3)."""
+        return float(sum(lp.extruded_area() * h for lp, h in zip(self.layers, self.heights)))
+
+    @property
+    def print_length(self) -> float:
+        """Total length of the extrusion paths (mm)."""
+        return float(sum(lp.extrusion_length for lp in self.layers))
+
+    @property
+    def filament_length(self) -> float:
+        """Filament the extrusions consume (mm)."""
+        return self.extruded_volume * self.settings.extrusion_multiplier / self.settings.filament_area
+
+    def predicted_volume(self) -> float:
+        """Volume the part calls for: solid shells (perimeters, skins) plus sparse fill at its density.
+
+        From the part's rasters and distance fields, not from the toolpaths:
+        per layer, (material - inner region) + solid part of the inner region +
+        density x the rest, times the layer height. Sparse lines linked into
+        zigzags also run along about half of their region's boundary (every
+        other gap between two lines, on each side), so half that boundary
+        at one line width is added.
+        """
+        total, inner, solid, edge = self.areas.T
+        s = self.settings
+        d = s.infill_density
+        links = 0.5 * edge * s.line_width if d > 0 else 0.0
+        return float(np.sum(self.heights * ((total - inner) + solid + d * (inner - solid) + links)))
+
+    def to_gcode(self, path) -> None:
+        """Write Marlin-flavoured G-code (atomically)."""
+        from .gcode import write_gcode
+        write_gcode(self, path)
+
+    def to_svg(self, directory) -> list:
+        """One true-scale SVG per layer in `directory`; returns the paths written."""
+        from .gcode import write_svgs
+        return write_svgs(self, directory)
+
+    def preview_png(self, path, layers=None, **kwargs) -> None:
+        """A PNG of some layers' toolpaths (default: first, a quarter, middle, top)."""
+        from .gcode import preview_png
+        preview_png(self, path, layers, **kwargs)
+
+
+# ------------------------------------------------------------------ workers
+_JOB: dict = {}
+_RUN = 10  # layers per task
+
+
+def _skin_masks(k: int, masks: dict, n: int, s: PrintSettings):
+    """Top and bottom skin of layer k: its material missing from any of the layers above/below."""
+    from .raster import GridMask
+    mine = masks[k]
+    if mine is None:
+        return None
+    skin = GridMask(np.zeros(mine.shape, bool), mine.row0, mine.col0, mine.pixel_size)
+    for rng in (range(k + 1, k + 1 + s.top_layers), range(k - 1, k - 1 - s.bottom_layers, -1)):
+        covered = mine
+        for j in rng:  # over the few neighbouring layers
+            other = masks.get(j) if 0 <= j < n else None
+            if other is None:
+                covered = None
+                break
+            covered = covered & other
+        skin = skin | (mine - covered) if covered is not None else mine
+    if not skin.mask.any():
+        return None
+    import cv2
+    # Slivers narrower than a line width (a sloped wall's edge) are the perimeters' business.
+    r = max(1, int(round(0.5 * s.line_width / s.pixel_size)))
+    kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+    opened = cv2.morphologyEx(skin.mask.astype(np.uint8), cv2.MORPH_OPEN, kernel).astype(bool)
+    return GridMask(opened, skin.row0, skin.col0, skin.pixel_size) if opened.any() else None
+
+
+def _run_chunk(first: int, stop: int):
+    """Toolpaths of layers first..stop-1 (the sections come from the forked parent)."""
+    from .paths import layer_paths
+    from .raster import rasterize
+    sections, z_tops, s = _JOB["sections"], _JOB["z_tops"], _JOB["settings"]
+    n = len(sections)
+    lo, hi = max(0, first - s.bottom_layers), min(n, stop + s.top_layers)
+    rasters = {j: rasterize(sections[j], s.pixel_size, rule=s.rule) for j in range(lo, hi)}
+    masks = {j: (r.combined() if r.tiles else None) for j, r in rasters.items()}
+    out = []
+    pos = None
+    for k in range(first, stop):  # over layers
+        solid = _skin_masks(k, masks, n, s)
+        parity = k % 2
+        solid_angle = (s.infill_angle + 90.0 * parity) if s.solid_angle is None else s.solid_angle
+        lp = layer_paths(sections[k], s.line_width, s.perimeters, s.infill_density, s.infill_angle,
+                         s.pixel_size, layer_index=k, rule=s.rule, overlap=s.infill_overlap, solid=solid,
+                         solid_angle=solid_angle, start=pos, raster=rasters[k])
+        areas = _areas(lp, rasters[k], solid, s)
+        items = list(lp.ordered())
+        if items:
+            pos = items[-1][1][-1]
+        out.append((k, replace(lp, z=float(z_tops[k]), perimeters=None), areas))
+    return out
+
+
+def _areas(lp, raster, solid, s: PrintSettings) -> tuple[float, float, float, float]:
+    """Material area, area inside the last perimeter, its solid part (pixel counts, mm^2), and
+    the length of the sparse filling region's boundary (mm)."""
+    per = lp.perimeters
+    p = s.pixel_size
+    edge = sum(float(np.hypot(*(np.roll(r, -1, axis=0) - r).T).sum())
+               for q in per.fill for r in (q.exterior, *q.holes))
+    total = inner = sol = 0.0
+    for f in per.fields:  # over tiles
+        m = f.grid.mask
+        total += np.count_nonzero(m)
+        region = m & (f.values >= s.perimeters * s.line_width)
+        inner += np.count_nonzero(region)
+        if solid is not None:
+            sol += np.count_nonzero(region & solid.window(f.grid.row0, f.grid.col0, f.grid.shape))
+    return total * p * p, inner * p * p, sol * p * p, edge
+
+
+def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | None = None,
+         progress: bool | None = None) -> PrintPlan:
+    """Plan a whole print: slice, find skins, make every layer's toolpaths in parallel.
+
+    Parameters
+    ----------
+    mesh : Mesh
+    settings : PrintSettings, optional
+    workers : int, optional
+        Processes (default: all cores); 1 runs in this process.
+    progress : bool, optional
+        Show a tqdm bar (default: when stderr is a terminal).
+
+    Returns
+    -------
+    PrintPlan
+
+    Examples
+    --------
+    >>> from slicelab.samples import box
+    >>> p = plan(box((0, 0, 0), (6, 6, 1)), PrintSettings(pixel_size=0.1), workers=1)
+    >>> len(p.layers), p.z.round(3).tolist()
+    (5, [0.2, 0.4, 0.6, 0.8, 1.0])
+    >>> set(p.layers[0].filling_kinds)   # bottom layers are solid
+    {'solid'}
+    """
+    import time
+    from .sections import slice_layers
+    s = settings or PrintSettings()
+    t0 = time.perf_counter()
+    if len(mesh) == 0:
+        raise ValueError("the mesh has no facets: nothing to print")
+    lo, hi = mesh.bounds
+    bounds = layer_bounds(float(hi[2] - lo[2]), s.layer_height, s.first_layer_height)
+    if len(bounds) == 0:
+        raise ValueError("the part is flat: nothing to print")
+    mid = lo[2] + bounds.mean(axis=1)
+    sections = slice_layers(mesh, heights=mid)
+    t1 = time.perf_counter()
+    n = len(sections)
+    workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))
+    _JOB.update(sections=sections, z_tops=bounds[:, 1], settings=s)
+    results = []
+    try:
+        # Fixed runs of layers, whatever the number of workers: a run carries the nozzle from
+        # one layer to the next (seams), so the same runs give the same G-code in series.
+        chunks = [(a, min(n, a + _RUN)) for a in range(0, n, _RUN)]
+        if workers == 1 or len(chunks) == 1:
+            bar = _bar(n, progress)
+            for a, b in chunks:
+                results += _run_chunk(a, b)
+                bar.update(b - a)
+            bar.close()
+        else:
+            import multiprocessing as mp
+            from concurrent.futures import ProcessPoolExecutor, as_completed
+            bar = _bar(n, progress)
+            with ProcessPoolExecutor(workers, mp_context=mp.get_context("fork")) as pool:
+                futures = {pool.submit(_run_chunk, a, b): (a, b) for a, b in chunks}
+                for fut in as_completed(futures):
+                    results += fut.result()
+                    a, b = futures[fut]
+                    bar.update(b - a)
+            bar.close()
+    finally:
+        _JOB.clear()
+    results.sort(key=lambda r: r[0])
+    layers = [r[1] for r in results]
+    areas = np.array([r[2] for r in results]).reshape(-1, 4)
+    heights = bounds[:, 1] - bounds[:, 0]
+    offset = np.array([s.bed_center[0] - (lo[0] + hi[0]) / 2, s.bed_center[1] - (lo[1] + hi[1]) / 2, -lo[2]])
+    t2 = time.perf_counter()
+    return PrintPlan(s, layers, heights, offset, areas, float(np.sum(areas[:, 0] * heights)),
+                     {"slice": t1 - t0, "paths": t2 - t1})
+
+
+def _bar(total: int, progress: bool | None):
+    from tqdm import tqdm
+    disable = (not sys.stderr.isatty()) if progress is None else not progress
+    return tqdm(total=total, unit="layer", desc="planning", disable=disable, leave=False)
+
+
+def settings_dict(s: PrintSettings) -> dict:
+    """The settings as a plain dict (for headers)."""
+    return asdict(s)

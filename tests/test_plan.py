@@ -1,0 +1,240 @@
+"""Whole-part planning and G-code (issue 6): the written G-code is parsed back and checked."""
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import slicelab
+from slicelab.plan import PrintSettings, layer_bounds, plan
+from slicelab.samples import cube_with_hole, voxels
+
+shapely = pytest.importorskip("shapely")
+
+FAST = dict(pixel_size=0.1, layer_height=0.4, first_layer_height=0.4)
+
+
+def parse_gcode(text):
+    """A small G-code reader: absolute XYZ, relative E (M83), layers and ;TYPE: roles.
+
+    Returns the moves as a structured list: (layer, z, x0, y0, x1, y1, e, kind, code, type).
+    """
+    x = y = z = 0.0
+    layer, role, offset = -1, None, np.zeros(3)
+    relative_e = False
+    moves, zs, heights = [], [], []
+    for line in text.splitlines():
+        if line.startswith("; slicelab offset = "):
+            offset = np.array([float(v) for v in line.split("=")[1].split(",")])
+        elif line.startswith(";LAYER:"):
+            layer = int(line[7:])
+        elif line.startswith(";Z:"):
+            zs.append(float(line[3:]))
+        elif line.startswith(";HEIGHT:"):
+            heights.append(float(line[8:]))
+        elif line.startswith(";TYPE:"):
+            role = line[6:]
+        code = line.split(";")[0].strip()
+        if not code:
+            continue
+        word = code.split()[0]
+        if word == "M83":
+            relative_e = True
+        elif word == "M82":
+            relative_e = False
+        if word not in ("G0", "G1"):
+            continue
+        args = dict((t[0], float(t[1:])) for t in code.split()[1:])
+        nx, ny, nz = args.get("X", x), args.get("Y", y), args.get("Z", z)
+        e = args.get("E", 0.0)
+        assert relative_e, "this reader expects relative extrusion"
+        moves.append((layer, nz, x, y, nx, ny, e, word, role))
+        x, y, z = nx, ny, nz
+    return moves, np.array(zs), np.array(heights), offset
+
+
+@pytest.fixture(scope="module")
+def cube_plan(tmp_path_factory):
+    mesh = cube_with_hole(8.0, 2.0, 32)
+    settings = PrintSettings(**FAST)
+    pp = plan(mesh, settings, workers=1)
+    out = tmp_path_factory.mktemp("g") / "cube.gcode"
+    pp.to_gcode(out)
+    return mesh, settings, pp, out.read_text()
+
+
+def test_layer_heights_and_count(cube_plan):
+    mesh, s, pp, text = cube_plan
+    _, zs, heights, _ = parse_gcode(text)
+    expected = layer_bounds(8.0, s.layer_height, s.first_layer_height)
+    assert len(zs) == len(pp.layers) == len(expected) == 20  # 0.4 mm layers in 8 mm
+    np.testing.assert_allclose(zs, s.first_layer_height + s.layer_height * np.arange(len(zs)), atol=5e-4)
+    np.testing.assert_allclose(heights, s.layer_height, atol=5e-4)
+
+
+def test_first_layer_height_is_its_own():
+    s = PrintSettings(pixel_size=0.1, layer_height=0.25, first_layer_height=0.4)
+    b = layer_bounds(2.0, s.layer_height, s.first_layer_height)
+    np.testing.assert_allclose(b[:, 1], [0.4, 0.65, 0.9, 1.15, 1.4, 1.65, 1.9])  # middles inside
+    pp = plan(slicelab.samples.box((0, 0, 0), (4, 4, 2)), s, workers=1)
+    np.testing.assert_allclose(pp.heights, np.diff(np.concatenate([[0], b[:, 1]])))
+
+
+def test_every_extrusion_lies_in_its_layer(cube_plan):
+    mesh, s, pp, text = cube_plan
+    moves, zs, _, offset = parse_gcode(text)
+    bounds = layer_bounds(8.0, s.layer_height, s.first_layer_height)
+    regions = {}
+    checked = 0
+    for layer, z, x0, y0, x1, y1, e, word, role in moves:
+        if e <= 0 or (x0 == x1 and y0 == y1):
+            continue
+        if layer not in regions:
+            mid = bounds[layer].mean() - offset[2]
+            sec = slicelab.section(mesh, (0, 0, mid), (0, 0, 1))
+            regions[layer] = sec.to_shapely().buffer(s.line_width / 2 + 1e-3)
+        line = shapely.LineString([(x0 - offset[0], y0 - offset[1]), (x1 - offset[0], y1 - offset[1])])
+        assert regions[layer].covers(line), (layer, role, line)
+        checked += 1
+    assert checked > 1000
+
+
+@pytest.fixture(scope="module")
+def big_plan(tmp_path_factory):
+    # Big enough for sparse filling to mean something (an 8 mm part has room for a few lines).
+    mesh = cube_with_hole(20.0, 5.0, 32)
+    s = PrintSettings(pixel_size=0.2, layer_height=0.5, first_layer_height=0.5)
+    pp = plan(mesh, s, workers=1)
+    out = tmp_path_factory.mktemp("g") / "big.gcode"
+    pp.to_gcode(out)
+    return s, pp, out.read_text()
+
+
+def test_extruded_volume_matches_the_prediction(big_plan):
+    s, pp, text = big_plan
+    mesh = cube_with_hole(20.0, 5.0, 32)
+    moves, *_ = parse_gcode(text)
+    e = np.array([m[6] for m in moves])
+    xy_move = np.array([(m[2], m[3]) != (m[4], m[5]) for m in moves])
+    filament = e[xy_move & (e > 0)].sum()  # retractions and primes cancel out, they move no XY
+    volume = filament * s.filament_area / s.extrusion_multiplier
+    assert volume == pytest.approx(pp.extruded_volume, rel=1e-3)  # G-code rounding only
+    assert volume == pytest.approx(pp.predicted_volume(), rel=0.05)
+    # And the part itself: shells + 20% of the inside is well under the part's volume.
+    part = slicelab.check(mesh).volume
+    assert 0.3 * part < volume < part
+
+
+def test_top_and_bottom_layers_are_solid(cube_plan):
+    mesh, s, pp, text = cube_plan
+    moves, *_ = parse_gcode(text)
+    n = len(pp.layers)
+    fill_types = {}
+    for layer, z, x0, y0, x1, y1, e, word, role in moves:
+        if e > 0 and (x0, y0) != (x1, y1) and role and "infill" in role:
+            fill_types.setdefault(layer, set()).add(role)
+    for k in list(range(s.bottom_layers)) + list(range(n - s.top_layers, n)):
+        assert fill_types[k] == {"Solid infill"}, (k, fill_types[k])
+    for k in range(s.bottom_layers, n - s.top_layers):
+        assert fill_types[k] == {"Internal infill"}, (k, fill_types[k])
+
+
+def test_solid_layers_are_covered(big_plan):
+    # The first and last layers' filling (with gap fill) extrudes about the whole inner area.
+    s, pp, _ = big_plan
+    for k in (0, len(pp.layers) - 1):
+        total, inner, solid, _ = pp.areas[k]
+        assert solid == pytest.approx(inner)
+        lp = pp.layers[k]
+        fill = sum(np.hypot(*np.diff(q, axis=0).T).sum() for q in lp.filling_segments) * s.line_width
+        gaps = sum((np.hypot(*np.diff(q, axis=0).T) * (w[1:] + w[:-1]) / 2).sum()
+                   for q, w in zip(lp.gap_fill_segments, lp.gap_fill_widths))
+        assert fill + gaps == pytest.approx(inner, rel=0.05), (fill, gaps, inner)
+
+
+def test_retraction_before_every_long_travel(cube_plan):
+    mesh, s, pp, text = cube_plan
+    moves, *_ = parse_gcode(text)
+    long_travels = 0
+    for i, (layer, z, x0, y0, x1, y1, e, word, role) in enumerate(moves):
+        if word != "G0" or layer < 0:
+            continue
+        d = np.hypot(x1 - x0, y1 - y0)
+        if d > s.retract_min_travel:
+            long_travels += 1
+            before = [m for m in moves[max(0, i - 3):i] if m[6] != 0]
+            after = [m for m in moves[i + 1:i + 4] if m[6] != 0]
+            assert before and before[-1][6] == pytest.approx(-s.retraction_length), moves[i - 3:i + 1]
+            assert after and after[0][6] == pytest.approx(s.retraction_length)
+            assert z == pytest.approx(moves[i + 1][1] + s.z_lift)  # travels lifted, then lowered
+        else:
+            assert e == 0
+    assert long_travels > len(pp.layers)
+
+
+def test_skins_are_found_by_mask_differences():
+    # A 10 x 10 x 2 slab with a 4 x 4 x 2 tower: the slab's top layers are skin outside the
+    # tower's footprint and sparse inside it.
+    occ = np.zeros((10, 10, 4), bool)
+    occ[:, :, :2] = True
+    occ[3:7, 3:7, 2:] = True
+    mesh = voxels(occ)
+    s = PrintSettings(pixel_size=0.1, layer_height=0.25, first_layer_height=0.25, top_layers=2,
+                      bottom_layers=2, infill_density=0.2)
+    pp = plan(mesh, s, workers=1)
+    tower = shapely.box(3, 3, 7, 7)
+    k = 6  # 1.5 - 1.75 mm: the tower stands 2 layers above
+    lp = pp.layers[k]
+    kinds = np.array(lp.filling_kinds)
+    assert {"solid", "sparse"} <= set(kinds)
+    for q, kind in zip(lp.filling_segments, kinds):
+        line = shapely.LineString(q)
+        if kind == "solid":
+            assert line.intersection(tower.buffer(-0.3)).length < 1e-6
+        else:
+            assert tower.buffer(0.3).covers(line)
+    # A middle layer of the slab, with two layers of slab above and below: no skin.
+    assert set(pp.layers[3].filling_kinds) == {"sparse"}
+
+
+def test_parallel_plan_gives_the_same_gcode(tmp_path):
+    mesh = cube_with_hole(8.0, 2.0, 32)
+    s = PrintSettings(**FAST)
+    a, b = plan(mesh, s, workers=1), plan(mesh, s, workers=2)
+    a.to_gcode(tmp_path / "a.gcode")
+    b.to_gcode(tmp_path / "b.gcode")
+    assert (tmp_path / "a.gcode").read_text() == (tmp_path / "b.gcode").read_text()
+
+
+def test_svg_and_png_previews(cube_plan, tmp_path):
+    mesh, s, pp, text = cube_plan
+    files = pp.to_svg(tmp_path / "svg")
+    assert len(files) == len(pp.layers)
+    assert "External perimeter" in files[0].read_text()
+    pp.preview_png(tmp_path / "p.png", layers=[0, 10])
+    assert (tmp_path / "p.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_cli_slice(tmp_path, data_dir):
+    out = tmp_path / "c.gcode"
+    r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(data_dir / "cube_with_hole.stl"), "-o",
+                        str(out), "--layer-height", "2", "--pixel-size", "0.2", "--workers", "1",
+                        "--infill", "15", "--preview", str(tmp_path / "prev")],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert out.read_text().count(";LAYER_CHANGE") == 10
+    assert (tmp_path / "prev" / "preview.png").exists()
+    for bad in (["--infill", "120"], ["--perimeters", "-1"], ["--workers", "0"]):
+        r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(data_dir / "cube_with_hole.stl"),
+                            "-o", str(out), *bad], capture_output=True, text=True)
+        assert r.returncode == 2 and r.stderr.count("\n") == 1 and "Traceback" not in r.stderr
+
+
+def test_bad_settings():
+    with pytest.raises(ValueError, match="layer_height"):
+        PrintSettings(layer_height=0)
+    with pytest.raises(ValueError, match="infill_density"):
+        PrintSettings(infill_density=2)
+    with pytest.raises(ValueError, match="nothing to print"):
+        plan(slicelab.Mesh(np.zeros((0, 3, 3))), PrintSettings())
