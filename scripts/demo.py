@@ -29,9 +29,21 @@ STEPS = [
     ("pot: profile drawing and measurements",
      ["profile", str(DATA / "pot.stl"), "-o", str(OUT / "pot_profile.svg"), "--png", str(OUT / "pot_profile.png"),
       "--json", str(OUT / "pot_profile.json")], "pot_profile.txt"),
+    ("torus: watertight cut by a tilted plane, both parts capped",
+     ["cut", str(DATA / "torus.stl"), "--origin", "0,0,0.3", "--normal", "0.2,0.1,1", "-o", str(OUT / "torus_cut")],
+     None),
+    ("pot: pieces for an 80 mm printer, stair joints",
+     ["partition", str(DATA / "pot.stl"), "--volume", "80x80x80", "--joint", "stair", "--step", "8,16",
+      "-o", str(OUT / "pot_parts")], "pot_parts.txt"),
     ("every sample: batch profile (reports, summary.csv; reruns skip)",
      ["batch", str(DATA), "-o", str(OUT / "batch_profile"), "--task", "profile", "--planes", "6",
       "--exclude", "large/*", "--workers", "2", "--no-progress"], None),
+    ("cube with a hole: G-code (perimeters, solid skins, 20% infill) and previews",
+     ["slice", str(DATA / "cube_with_hole.stl"), "-o", str(OUT / "cube_with_hole.gcode"),
+      "--preview", str(OUT / "cube_with_hole_preview")], None),
+    ("pot: G-code at 2 mm layers, coarse pixels (a quick demo; the default is 0.2 mm / 0.05 mm)",
+     ["slice", str(DATA / "pot.stl"), "-o", str(OUT / "pot.gcode"), "--layer-height", "2", "--line-width", "0.8",
+      "--pixel-size", "0.2", "--preview", str(OUT / "pot_preview")], None),
 ]
 
 
