@@ -359,18 +359,62 @@ def _frame_coords(frame: Frame, corners: np.ndarray) -> np.ndarray:
     return frame.to_2d(corners)
 
 
-def plane_distances(frame: Frame, triangles: np.ndarray) -> np.ndarray:
-    """Signed distance of every corner to the plane, (n, 3); exact for horizontal planes.
+# Distances below this (mm, about 6e-73) count as zero for every plane: a cut that close to a
+# corner makes pieces whose area is about the distance squared, and whose squared area (as any
+# norm computes it) would underflow to zero.
+_TINY = 2.0 ** -240
+_CHUNK = 1 << 15  # facets per block: keeps the temporaries in cache
+
+
+def _snap(dist: np.ndarray, bound: float) -> np.ndarray:
+    for s in range(0, len(dist), _CHUNK):  # over blocks of facets, not facets
+        x = dist[s:s + _CHUNK]
+        x[np.abs(x) <= bound] = 0.0
+    return dist
+
+
+def plane_distances(frame: Frame, triangles: np.ndarray, *, snap: bool = True) -> np.ndarray:
+    """Signed distance of every corner to the plane, (n, 3).
+
+    For a plane whose normal has one non-zero component (x, y or z = const)
+    the computed sign is exact. For any other plane a corner that lies in the
+    plane comes out a few ulps off it, with a sign decided by rounding;
+    distances smaller than a bound on that rounding error are set to zero
+    (`snap`), so such a corner is in the plane for sections, splits and cuts
+    alike. For every plane, distances below 2^-240 mm count as zero too: a
+    cut that close to a corner would leave pieces of no representable area.
 
     Examples
     --------
     >>> f = Frame.from_plane((0, 0, 1), (0, 0, -1))
     >>> plane_distances(f, np.array([[[0, 0, 0], [0, 0, 1], [0, 0, 3]]], float)).tolist()
-    [[1.0, -0.0, -2.0]]
+    [[1.0, 0.0, -2.0]]
     """
-    if frame.horizontal:
-        return (triangles[..., 2] - frame.origin[2]) * frame.normal[2]
-    return frame.distances(triangles)
+    if not snap:
+        if frame.horizontal:
+            return (triangles[..., 2] - frame.origin[2]) * frame.normal[2]
+        return frame.distances(triangles)
+    if frame.horizontal:  # z - z0: the sign is exact
+        return _snap((triangles[..., 2] - frame.origin[2]) * frame.normal[2], _TINY)
+    dist = np.empty(triangles.shape[:2])
+    o = frame.origin
+    n0, n1, n2 = frame.normal
+    oblique = np.count_nonzero(frame.normal) > 1
+    reach = 0.0  # the largest |p - origin| along any axis
+    for s in range(0, len(triangles), _CHUNK):  # over blocks of facets, not facets
+        d = triangles[s:s + _CHUNK] - o
+        x = d[..., 0] * n0
+        x += d[..., 1] * n1  # same operations in the same order as Frame.distances
+        x += d[..., 2] * n2
+        dist[s:s + _CHUNK] = x
+        if oblique and len(d):
+            reach = max(reach, float(d.max()), -float(d.min()))
+    bound = _TINY
+    if oblique:
+        # Rounding of p - o, of the products and of the sums is a few ulps of these terms.
+        size = (reach + float(np.abs(o).max())) * float(np.abs(frame.normal).sum())
+        bound = max(bound, 64 * np.finfo(np.float64).eps * size)
+    return _snap(dist, bound)
 
 
 def _straddling(dist: np.ndarray) -> np.ndarray:

@@ -105,69 +105,16 @@ def classify(dist: np.ndarray) -> np.ndarray:
 
 
 def corner_distances(frame: Frame, triangles: np.ndarray) -> np.ndarray:
-    """Signed corner distances as `split` uses them: `plane_distances`, rounding noise set to zero.
-
-    For a plane whose normal has one non-zero component the computed sign is
-    exact. For any other plane a corner that lies in the plane comes out a
-    few ulps off it, with a sign decided by rounding, and cutting there makes
-    pieces of no area (a cut point that rounds onto a corner). Distances
-    smaller than a bound on that rounding error are therefore set to zero:
-    such a corner is taken to be in the plane, for the split and its section
-    alike. For every plane, distances below 2^-240 mm (about 6e-73) are zero
-    too: pieces cut that close to a corner would have an area (about the
-    distance squared) too small for its square to be a double, so any norm
-    would find it zero.
-
-    Parameters
-    ----------
-    frame : Frame
-    triangles : (n, 3, 3) ndarray
-
-    Returns
-    -------
-    (n, 3) ndarray
+    """Signed corner distances as `split` (and `section`) use them; see `plane_distances`.
 
     Examples
     --------
     >>> f = Frame.from_plane((0, 0, 0), (1, 1, 1))
     >>> t = np.array([[[1.1, 2.2, -3.3], [1, 0, 0], [0, 0, -1]]])
-    >>> bool(plane_distances(f, t)[0, 0] > 0), float(corner_distances(f, t)[0, 0])
+    >>> bool(plane_distances(f, t, snap=False)[0, 0] > 0), float(corner_distances(f, t)[0, 0])
     (True, 0.0)
     """
-    if frame.horizontal:  # z - z0: the sign is exact
-        return _snap(plane_distances(frame, triangles), _TINY)
-    dist = np.empty(triangles.shape[:2])
-    o = frame.origin
-    n0, n1, n2 = frame.normal
-    oblique = np.count_nonzero(frame.normal) > 1
-    reach = 0.0  # the largest |p - origin| along any axis
-    for s in range(0, len(triangles), _CHUNK):  # over blocks of facets, not facets
-        d = triangles[s:s + _CHUNK] - o
-        x = d[..., 0] * n0
-        x += d[..., 1] * n1  # same operations in the same order as Frame.distances
-        x += d[..., 2] * n2
-        dist[s:s + _CHUNK] = x
-        if oblique and len(d):
-            reach = max(reach, float(d.max()), -float(d.min()))
-    bound = _TINY
-    if oblique:
-        # Rounding of p - o, of the products and of the sums is a few ulps of these terms.
-        size = (reach + float(np.abs(o).max())) * float(np.abs(frame.normal).sum())
-        bound = max(bound, 64 * np.finfo(np.float64).eps * size)
-    return _snap(dist, bound)
-
-
-# Distances below this (mm, about 6e-73) count as zero for every plane: a cut that close to a
-# corner makes pieces whose area is about the distance squared, and whose squared area (as any
-# norm computes it) would underflow to zero.
-_TINY = 2.0 ** -240
-
-
-def _snap(dist: np.ndarray, bound: float) -> np.ndarray:
-    for s in range(0, len(dist), _CHUNK):  # over blocks of facets, not facets
-        x = dist[s:s + _CHUNK]
-        x[np.abs(x) <= bound] = 0.0
-    return dist
+    return plane_distances(frame, triangles)
 
 
 def _cut(c: np.ndarray, d: np.ndarray, frame: Frame | None):
