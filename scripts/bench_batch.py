@@ -36,15 +36,8 @@ N_FILES = 20
 
 def _random_motion(seed: int):
     import numpy as np
-    rng = np.random.default_rng(seed)
-    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
-    q *= np.sign(np.diag(r))
-    if np.linalg.det(q) < 0:
-        q[:, 0] *= -1
-    m = np.eye(4)
-    m[:3, :3] = q
-    m[:3, 3] = rng.uniform(-200, 200, 3)
-    return m
+    from slicelab.samples import random_motion
+    return random_motion(np.random.default_rng(seed), shift=200)
 
 
 def child_profile_ours(path: str, out: str) -> None:

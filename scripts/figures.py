@@ -50,7 +50,7 @@ def scanned_pot(seed: int = 8, noise: float = 0.1, sherd: bool = True):
     Returns the scan and the 4x4 motion that put the pot there (the truth).
     """
     import slicelab
-    from slicelab import Mesh
+    from slicelab import Mesh, samples
     from slicelab.topology import weld
     pot = slicelab.load(DATA / "pot.stl")
     rng = np.random.default_rng(seed)
@@ -60,13 +60,7 @@ def scanned_pot(seed: int = 8, noise: float = 0.1, sherd: bool = True):
     if sherd:
         c = mesh.triangles.mean(axis=1)
         mesh = Mesh(mesh.triangles[np.linalg.norm(c - [50.0, -35.0, 80.0], axis=1) > 18.0])
-    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
-    q *= np.sign(np.diag(r))
-    if np.linalg.det(q) < 0:
-        q[:, 0] *= -1
-    motion = np.eye(4)
-    motion[:3, :3] = q
-    motion[:3, 3] = rng.uniform(-150, 150, 3)
+    motion = samples.random_motion(rng, shift=150)
     return mesh.transformed(motion), motion
 
 

@@ -11,9 +11,31 @@ import numpy as np
 from .check import signed_volume
 from .mesh import Mesh
 
-__all__ = ["box", "revolve", "torus", "sphere", "pot", "pot_profile", "pot_dimensions",
+__all__ = ["random_motion", "box", "revolve", "torus", "sphere", "pot", "pot_profile", "pot_dimensions",
            "ring_prism", "cube_with_hole", "nested_shells", "overlapping_cubes", "voxels",
            "staircase"]
+
+
+def random_motion(rng: np.random.Generator, shift: float = 0.0) -> np.ndarray:
+    """A uniformly random rotation, and a random shift up to `shift` mm per axis, as a 4x4 matrix.
+
+    For tests and benchmarks that put a sample in an arbitrary pose.
+
+    Examples
+    --------
+    >>> m = random_motion(np.random.default_rng(0), shift=10)
+    >>> bool(np.allclose(m[:3, :3] @ m[:3, :3].T, np.eye(3))), round(float(np.linalg.det(m[:3, :3])), 9)
+    (True, 1.0)
+    """
+    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
+    q *= np.sign(np.diag(r))
+    if np.linalg.det(q) < 0:
+        q[:, 0] *= -1
+    m = np.eye(4)
+    m[:3, :3] = q
+    if shift:
+        m[:3, 3] = rng.uniform(-shift, shift, 3)
+    return m
 
 
 def _oriented(vertices: np.ndarray, faces: np.ndarray) -> Mesh:

@@ -3,6 +3,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from slicelab.samples import random_motion
+
 ROOT = Path(__file__).resolve().parents[1]
 DATA = ROOT / "data"
 
@@ -14,10 +16,4 @@ def data_dir() -> Path:
 
 def random_rotation(rng: np.random.Generator) -> np.ndarray:
     """A uniformly random proper rotation as a 4x4 matrix."""
-    q, r = np.linalg.qr(rng.normal(size=(3, 3)))
-    q *= np.sign(np.diag(r))
-    if np.linalg.det(q) < 0:
-        q[:, 0] *= -1
-    m = np.eye(4)
-    m[:3, :3] = q
-    return m
+    return random_motion(rng)
