@@ -168,16 +168,16 @@ class Cut(tuple):
 
 # ------------------------------------------------------------------ cut edges
 def plane_edges(pieces: np.ndarray, corners: np.ndarray, corner_dist: np.ndarray,
-                side: int) -> tuple[np.ndarray, np.ndarray]:
+                side: int, tol: float = 0.0) -> tuple[np.ndarray, np.ndarray]:
     """The edges of one side's split facets that a cap must close, run the way the cap runs them.
 
     `pieces` are the facets of one side that reach the plane (pieces of cut
     facets, facets touching it). Their edges in the plane are those no other
-    piece of the set walks back, leaving out the facets' own edges between
-    two corners strictly on this side (those are shared with facets away from
-    the plane). Taking the cap's edges from the split's own pieces, compared
-    bit for bit, makes the cap meet them exactly, whatever arithmetic put the
-    cut points where they are (even a cut point that rounded onto a corner).
+    piece of the set walks back and that do not end at a corner of the input
+    lying off the plane (compared bit for bit with the piece's source facet).
+    Taking the cap's edges from the split's own pieces makes the cap meet them
+    exactly, whatever arithmetic put the cut points where they are; an input
+    edge left open near the plane is not mistaken for one.
 
     Parameters
     ----------
@@ -189,6 +189,9 @@ def plane_edges(pieces: np.ndarray, corners: np.ndarray, corner_dist: np.ndarray
         Its corner distances, as given to `split_facets`.
     side : {-1, +1}
         -1 for the rear pieces, +1 for the front pieces.
+    tol : float, default 0
+        Corners closer to the plane than this may coincide with a cut point
+        that rounded onto them: they are not taken as off the plane.
 
     Returns
     -------
@@ -210,13 +213,13 @@ def plane_edges(pieces: np.ndarray, corners: np.ndarray, corner_dist: np.ndarray
     k = len(pieces)
     if k == 0:
         return np.zeros((0, 3)), np.zeros((0, 3))
-    strict = (corner_dist * side) > 0
+    strict = (corner_dist * side) > tol
     same = np.all(pieces[:, :, None, :] == corners[:, None, :, :], axis=-1)  # piece corner i == source corner j
-    away = np.any(same & strict[:, None, :], axis=2)  # a corner strictly on this side, not in the plane
+    away = np.any(same & strict[:, None, :], axis=2)  # a corner of the input on this side, off the plane
     vid, _ = exact_ids(pieces.reshape(-1, 3))
     vid = vid.reshape(k, 3)
     a, b = vid.reshape(-1), vid[:, _NEXT].reshape(-1)
-    keep = _cancel_pairs(a, b) & ~(away.reshape(-1) & away[:, _NEXT].reshape(-1)) & (a != b)
+    keep = _cancel_pairs(a, b) & ~(away.reshape(-1) | away[:, _NEXT].reshape(-1)) & (a != b)
     rows, i = np.divmod(np.flatnonzero(keep), 3)
     return pieces[rows, _NEXT[i]], pieces[rows, i]
 
@@ -456,8 +459,9 @@ def cut(mesh: Mesh, origin, normal) -> Cut:
     near_r = np.flatnonzero(np.any(dist >= 0, axis=1)[rear_src])
     near_f = np.flatnonzero(np.any(dist <= 0, axis=1)[front_src])
     src_r, src_f = rear_src[near_r], front_src[near_f]
-    rs, re = plane_edges(rear[near_r], t[src_r], dist[src_r], -1)
-    fs, fe = plane_edges(front[near_f], t[src_f], dist[src_f], +1)
+    tol = _rounding(frame, t[np.concatenate([src_r, src_f])])
+    rs, re = plane_edges(rear[near_r], t[src_r], dist[src_r], -1, tol)
+    fs, fe = plane_edges(front[near_f], t[src_f], dist[src_f], +1, tol)
     rear_cap = cap_segments(rs, re, _to_2d(frame, False))
     if _same_edges(rs, re, fe, fs):
         # The usual case: the section seen from the front is the rear one run backwards.
@@ -470,6 +474,14 @@ def cut(mesh: Mesh, origin, normal) -> Cut:
         warnings.warn(f"cut: the section did not close everywhere ({report.describe()})", CutWarning,
                       stacklevel=2)
     return Cut(Mesh(_join(rear, rear_cap)), Mesh(_join(front, front_cap)), report)
+
+
+def _rounding(frame: Frame, near: np.ndarray) -> float:
+    """How far off a tilted plane a corner can be and still meet a cut point rounded onto it."""
+    if np.count_nonzero(frame.normal) <= 1 or len(near) == 0:
+        return 0.0  # x, y or z = const: the split puts cut points exactly in the plane
+    reach = np.abs(near.reshape(-1, 3)).max(axis=0) + np.abs(frame.origin)
+    return 64 * np.finfo(np.float64).eps * float(reach @ np.abs(frame.normal))
 
 
 def _same_edges(a0, a1, b0, b1) -> bool:

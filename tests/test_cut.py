@@ -235,6 +235,14 @@ def test_open_mesh_caps_what_closes_and_reports_the_rest():
     assert check(parts.rear).n_open_edges > 0  # reported, not hidden
 
 
+def test_an_open_edge_near_the_plane_is_not_capped():
+    # A lone facet across the plane: its own edges are open, the part cannot close.
+    with pytest.warns(CutWarning):
+        parts = cut(Mesh([[[0, 0, -1], [1, 0, 1], [0, 1, 1]]]), (0, 0, 0), (0, 0, 1))
+    assert len(parts.report.rear_cap.triangles) == 0 and len(parts.report.rear_cap.open_chains) == 1
+    assert len(parts.rear) == 1 and len(parts.front) == 2
+
+
 def test_bad_plane_is_a_value_error():
     with pytest.raises(ValueError):
         cut(samples.box(), (0, 0, 0), (0, 0, 0))
