@@ -379,8 +379,7 @@ def _triangulate(rings: list, areas: np.ndarray, p2: np.ndarray) -> tuple[np.nda
         polys.append(shapely.Polygon(ring(ext), [ring(h) for h in holes]))
         ring_sets.append(np.concatenate([ext, *holes]))
         flips.append(flip)
-    with np.errstate(all="ignore"):
-        result = shapely.constrained_delaunay_triangles(np.array(polys, dtype=object))
+    result = _cdt(np.array(polys, dtype=object))
     parts, owner = shapely.get_parts(result, return_index=True)
     coords = shapely.get_coordinates(parts, include_z=True).reshape(-1, 4, 3)[:, :3]
     tri = coords[..., 2].astype(np.int64)
@@ -405,6 +404,28 @@ def _triangulate(rings: list, areas: np.ndarray, p2: np.ndarray) -> tuple[np.nda
             continue
         out.append(t[:, ::-1] if flips[g] else t)
     return (np.concatenate(out) if out else np.zeros((0, 3), np.int64)), n_failed
+
+
+def _cdt(polys: np.ndarray) -> np.ndarray:
+    """GEOS's constrained Delaunay triangles of each polygon; an empty result where GEOS gives up.
+
+    A section of a self-intersecting input can make a polygon GEOS cannot
+    triangulate ("unable to find a convex corner"): that polygon is left
+    uncapped (and reported), the others are not held back.
+    """
+    import shapely
+    from shapely.errors import GEOSException
+    with np.errstate(all="ignore"):
+        try:
+            return shapely.constrained_delaunay_triangles(polys)
+        except GEOSException:
+            out = np.empty(len(polys), dtype=object)
+            for k, p in enumerate(polys):  # over polygons, only when one failed
+                try:
+                    out[k] = shapely.constrained_delaunay_triangles(p)
+                except GEOSException:
+                    out[k] = shapely.GeometryCollection()
+            return out
 
 
 # ------------------------------------------------------------------ the cut
