@@ -15,9 +15,10 @@ that respects holes and concave outlines, for any plane. Here:
   front cap when a facet in front does; facets lying in the plane ("on+" and
   "on-") are dropped, because the caps cover them (on+: the cap of the side
   the facet faces away from covers it, on-: the other cap does).
-* Every cap vertex is the very 3-D cut point of the split, computed from the
-  same edge corners in the same order, so the parts close with no crack and
-  no T-junction, for tilted planes too. The 2-D coordinates only serve the
+* The cap's edges are read off the split's own pieces (the in-plane edges no
+  other piece of that side walks back), so every cap vertex is, bit for bit,
+  a 3-D cut point of the split and the parts close with no crack and no
+  T-junction, for tilted planes too. The 2-D coordinates only serve the
   triangulation; each triangle vertex carries the index of its 3-D point
   through GEOS (as the Z coordinate), so nothing is rounded back to 3-D.
 * The triangulation is GEOS's constrained Delaunay triangulation (through
@@ -62,8 +63,8 @@ class Cap:
         Cap triangles, indices into `points`, wound so that their normal
         points out of the part.
     edges : (m, 2) int ndarray
-        The oriented cut edges the cap is bounded by (material on the left,
-        seen from outside the part... i.e. seen along the cap's normal).
+        The cut edges bounding the cap, as point indices, oriented like the
+        cap's triangles (outer loops counter-clockwise about its normal).
     loops : list of (j,) int ndarrays
         Closed loops of `edges`, as point indices.
     open_chains : list of (j, 3) ndarrays
