@@ -326,6 +326,7 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
         else:
             import multiprocessing as mp
             from concurrent.futures import ProcessPoolExecutor, as_completed
+            _warm_imports()  # forked workers inherit them instead of importing each
             bar = _bar(n, progress)
             with ProcessPoolExecutor(workers, mp_context=mp.get_context("fork")) as pool:
                 futures = {pool.submit(_run_chunk, a, b): (a, b) for a, b in chunks}
@@ -344,6 +345,15 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     t2 = time.perf_counter()
     return PrintPlan(s, layers, heights, offset, areas, float(np.sum(areas[:, 0] * heights)),
                      {"slice": t1 - t0, "paths": t2 - t1})
+
+
+def _warm_imports() -> None:
+    import cv2  # noqa: F401
+    import scipy.spatial  # noqa: F401
+    import skimage.measure  # noqa: F401
+    import skimage.morphology  # noqa: F401
+
+    from . import filling, gcode, paths, perimeters, raster  # noqa: F401
 
 
 def _bar(total: int, progress: bool | None):

@@ -7,7 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["plot_raster", "plot_distance", "plot_toolpath", "plot_coverage"]
+__all__ = ["plot_raster", "plot_distance", "plot_toolpath", "plot_coverage", "plan_3d"]
 
 
 def _axes(ax):
@@ -163,4 +163,46 @@ def plot_coverage(paths, raster=None, ax=None, *, pixel_size: float | None = Non
         img[counts == 0] = np.nan
     cmap = ListedColormap(["red", "#cfe3f5", "#3b6ea8", "#0b2545"])
     ax.imshow(img, origin="lower", extent=grid.extent, cmap=cmap, vmin=-0.5, vmax=3.5, interpolation="nearest")
+    return ax
+
+
+# ------------------------------------------------------------- print plans (issue 6)
+def plan_3d(plan, layers=None, ax=None, *, lw: float = 0.5, elev: float = 25, azim: float = -60):
+    """The extrusion paths of a range of layers in 3-D, coloured by role.
+
+    Examples
+    --------
+    >>> import matplotlib; matplotlib.use("Agg")
+    >>> import slicelab
+    >>> from slicelab.samples import box
+    >>> p = slicelab.plan(box((0, 0, 0), (4, 4, 1)), slicelab.PrintSettings(pixel_size=0.1), workers=1)
+    >>> ax = plan_3d(p, range(0, 5, 2))
+    """
+    import matplotlib.pyplot as plt
+    from mpl_toolkits.mplot3d.art3d import Line3DCollection
+    from .gcode import _COLOURS, _role
+    if ax is None:
+        fig = plt.figure(figsize=(7, 6))
+        ax = fig.add_subplot(projection="3d")
+    layers = range(len(plan.layers)) if layers is None else layers
+    segs, cols = [], []
+    for k in layers:
+        lp = plan.layers[k]
+        for (role, i), (_, q, _) in zip(lp.sequence, lp.ordered()):
+            segs.append(np.column_stack([q, np.full(len(q), lp.z)]))
+            kind = _role(lp, role, i)
+            cols.append(_COLOURS[kind] if kind != "gap_fill" else "#1c7ed6")
+    if segs:
+        ax.add_collection3d(Line3DCollection(segs, colors=cols, linewidths=lw))
+        allp = np.concatenate(segs)
+        lo, hi = allp.min(axis=0), allp.max(axis=0)
+        span = max(hi[0] - lo[0], hi[1] - lo[1]) / 2
+        mid = (lo + hi) / 2
+        ax.set_xlim(mid[0] - span, mid[0] + span)
+        ax.set_ylim(mid[1] - span, mid[1] + span)
+        ax.set_zlim(lo[2] - 0.1, hi[2] + 0.1)
+    ax.view_init(elev=elev, azim=azim)
+    ax.set_xlabel("x (mm)")
+    ax.set_ylabel("y (mm)")
+    ax.set_zlabel("z (mm)")
     return ax

@@ -134,3 +134,23 @@ def test_bad_arguments():
         perimeters(s, 0.0)
     with pytest.raises(ValueError, match="perimeter count"):
         perimeters(s, 0.4, -1)
+
+
+def test_march_matches_skimage_find_contours():
+    from skimage import measure
+
+    from slicelab.perimeters import march
+    rng = np.random.default_rng(0)
+
+    def area(r):
+        return 0.5 * np.sum(r[:, 1] * np.roll(r[:, 0], -1) - np.roll(r[:, 1], -1) * r[:, 0])
+
+    for _ in range(100):  # random fields are full of saddles
+        v = rng.normal(size=(12, 15))
+        v[0] = v[-1] = v[:, 0] = v[:, -1] = -5
+        ref = [c[:-1] for c in measure.find_contours(v, 0.3, fully_connected="high", positive_orientation="low")]
+        ours = march(v, 0.3)
+        assert len(ours) == len(ref)
+        key = (lambda rings: sorted(tuple(np.round(p, 9)) for r in rings for p in r))
+        assert key(ours) == key(ref)
+        np.testing.assert_allclose(sorted(map(area, ours)), sorted(map(area, ref)), atol=1e-12)

@@ -1,0 +1,153 @@
+"""Whole-part slicing to G-code: slicelab against PrusaSlicer on the 1M-facet torus (issue 6).
+
+Same settings on both sides: 0.2 mm layers (first layer too), 0.4 mm lines everywhere, two
+perimeters, 20% rectilinear infill, 3 top and 3 bottom solid layers, no skirt, no minimum shell
+thickness (PrusaSlicer would otherwise add a fourth top layer). Each tool runs once, as a
+command-line subprocess from a cold start (load, slice, write G-code); wall time, peak memory (the
+summed resident size of the process and its children, sampled every 20 ms) and the filament each
+G-code extrudes are printed, with the ratios. slicelab runs at its default 0.05 mm pixel on all
+cores. PrusaSlicer is Debian's `prusa-slicer` (`apt-get install -y prusa-slicer`); the comparison is
+skipped with a note when it is absent. The machine is shared, so timings are noisy.
+
+    python scripts/bench_slice.py [--mesh data/large/torus_1m.stl] [--workers N]
+"""
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+LAYER, WIDTH, PERIMETERS, INFILL, SOLID = 0.2, 0.4, 2, 20, 3
+
+
+def _tree_rss_kb(pid: int) -> int:
+    """Resident memory of a process and all its descendants (kB), from /proc."""
+    total = 0
+    kids = {}
+    for d in os.listdir("/proc"):
+        if not d.isdigit():
+            continue
+        try:
+            with open(f"/proc/{d}/stat") as fh:
+                ppid = int(fh.read().rsplit(")", 1)[1].split()[1])
+            kids.setdefault(ppid, []).append(int(d))
+        except (OSError, ValueError, IndexError):
+            pass
+    todo = [pid]
+    while todo:
+        p = todo.pop()
+        todo += kids.get(p, [])
+        try:
+            with open(f"/proc/{p}/status") as fh:
+                for line in fh:
+                    if line.startswith("VmRSS:"):
+                        total += int(line.split()[1])
+        except OSError:
+            pass
+    return total
+
+
+def run(cmd: list[str]) -> tuple[float, float, subprocess.CompletedProcess]:
+    """Wall time (s) and peak tree memory (MB) of a command."""
+    t0 = time.perf_counter()
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, cwd=ROOT)
+    peak = [0]
+
+    def sample():
+        while proc.poll() is None:
+            peak[0] = max(peak[0], _tree_rss_kb(proc.pid))
+            time.sleep(0.02)
+
+    th = threading.Thread(target=sample, daemon=True)
+    th.start()
+    out, err = proc.communicate()
+    wall = time.perf_counter() - t0
+    th.join()
+    return wall, peak[0] / 1024, subprocess.CompletedProcess(cmd, proc.returncode, out, err)
+
+
+def extruded_filament(gcode: Path) -> float:
+    """Filament (mm) pushed by moves that extrude while moving in X or Y (relative or absolute E)."""
+    total, relative, e_abs = 0.0, False, 0.0
+    move = re.compile(r"^G[01]\s")
+    for line in gcode.open():
+        code = line.split(";")[0].strip()
+        if code.startswith("M83"):
+            relative = True
+        elif code.startswith("M82"):
+            relative = False
+        elif code.startswith("G92"):
+            for tok in code.split()[1:]:
+                if tok[0] == "E":
+                    e_abs = float(tok[1:])
+        elif move.match(code) and "E" in code:
+            args = {t[0]: float(t[1:]) for t in code.split()[1:] if len(t) > 1}
+            e = args["E"] if relative else args["E"] - e_abs
+            if not relative:
+                e_abs = args["E"]
+            if ("X" in args or "Y" in args) and e > 0:
+                total += e
+    return total
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--mesh", type=Path, default=ROOT / "data" / "large" / "torus_1m.stl")
+    ap.add_argument("--workers", type=int, default=None)
+    ap.add_argument("--pixel-size", type=float, default=0.05)
+    args = ap.parse_args(argv)
+    if not args.mesh.exists():
+        print(f"{args.mesh} is missing: run `make data-large`")
+        return 1
+    tmp = Path(tempfile.mkdtemp(prefix="bench_slice_"))
+    ours = tmp / "slicelab.gcode"
+    cmd = [sys.executable, "-m", "slicelab", "slice", str(args.mesh), "-o", str(ours), "--layer-height", str(LAYER),
+           "--line-width", str(WIDTH), "--perimeters", str(PERIMETERS), "--infill", str(INFILL),
+           "--top-layers", str(SOLID), "--bottom-layers", str(SOLID), "--pixel-size", str(args.pixel_size)]
+    if args.workers:
+        cmd += ["--workers", str(args.workers)]
+    print(f"{args.mesh.name}: {LAYER} mm layers, {WIDTH} mm lines, {PERIMETERS} perimeters, {INFILL}% infill, "
+          f"{SOLID} top/bottom layers; {os.cpu_count()} cores, shared machine (noisy timings)")
+    t_ours, m_ours, r = run(cmd)
+    if r.returncode:
+        print(r.stderr[-3000:])
+        return 1
+    print(r.stdout.strip())
+    f_ours = extruded_filament(ours)
+    rows = [("slicelab", t_ours, m_ours, f_ours)]
+    prusa = shutil.which("prusa-slicer") or shutil.which("prusaslicer")
+    if prusa is None:
+        print("prusa-slicer is not installed (apt-get install -y prusa-slicer): no comparison")
+    else:
+        theirs = tmp / "prusa.gcode"
+        pcmd = [prusa, "--export-gcode", "--layer-height", str(LAYER), "--first-layer-height", str(LAYER),
+                "--perimeters", str(PERIMETERS), "--fill-density", f"{INFILL}%", "--fill-pattern", "rectilinear",
+                "--top-solid-layers", str(SOLID), "--bottom-solid-layers", str(SOLID),
+                "--top-solid-min-thickness", "0", "--bottom-solid-min-thickness", "0",
+                "--extrusion-width", str(WIDTH), "--first-layer-extrusion-width", str(WIDTH),
+                "--skirts", "0", "-o", str(theirs), str(args.mesh)]
+        t_p, m_p, rp = run(pcmd)
+        if rp.returncode or not theirs.exists():
+            print("prusa-slicer failed:", (rp.stderr or rp.stdout)[-2000:])
+        else:
+            rows.append(("PrusaSlicer", t_p, m_p, extruded_filament(theirs)))
+    print(f"\n{'tool':<12}{'wall s':>9}{'peak MB':>10}{'filament mm':>13}")
+    for name, t, m, f in rows:
+        print(f"{name:<12}{t:>9.2f}{m:>10.0f}{f:>13.0f}")
+    if len(rows) == 2:
+        (_, t0, m0, f0), (_, t1, m1, f1) = rows
+        print(f"{'ratio':<12}{t0 / t1:>9.2f}{m0 / m1:>10.2f}{f0 / f1:>13.3f}   (slicelab / PrusaSlicer)")
+    shutil.rmtree(tmp, ignore_errors=True)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
