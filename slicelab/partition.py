@@ -221,27 +221,39 @@ def _area(t: np.ndarray) -> float:
 
 
 # ------------------------------------------------------------------ exact axis splits
-def _split_axis(soup: np.ndarray, axis: int, value: float, rows: np.ndarray):
+@dataclass(frozen=True, eq=False)
+class _AxisSplit:
+    """Facets `rows` of a soup split by a plane ``x_axis = value`` (see `_split_axis`)."""
+
+    rear: np.ndarray         # rear pieces, world coordinates
+    front: np.ndarray        # front pieces, world coordinates
+    rear_src: np.ndarray     # index into the soup of each rear piece's facet
+    front_src: np.ndarray
+    dist: np.ndarray         # (rows, 3) corner distances
+    turned: np.ndarray       # the rows' corners with the axis turned to z
+    rear_turned: np.ndarray  # rear pieces, turned
+    rear_row: np.ndarray     # index into `rows` of each rear piece's facet
+
+
+def _split_axis(soup: np.ndarray, axis: int, value: float, rows: np.ndarray) -> _AxisSplit:
     """Split facets `rows` of `soup` by the plane ``x_axis = value``.
 
-    Returns (rear, front, rear_src, front_src, dist) with pieces in world
-    coordinates, sources as indices into `soup`, and the corner distances of
-    the rows. The split is done with the axis turned to z, so that the cut
-    points land exactly on the plane.
+    The split is done with the axis turned to z (a cyclic permutation of the
+    coordinates, exact), so that the cut points land exactly on the plane.
     """
     p, q = _PERM[axis], _UNPERM[axis]
     sub = soup[rows][..., p]
     dist = sub[..., 2] - value
     frame = Frame.from_plane((0.0, 0.0, value), (0.0, 0.0, 1.0))
     front, rear, fs, rs, _ = split_facets(sub, dist, frame)
-    return rear[..., q], front[..., q], rows[rs], rows[fs], dist, sub, fs, rs, front, rear
+    return _AxisSplit(rear[..., q], front[..., q], rows[rs], rows[fs], dist, sub, rear, rs)
 
 
-def _cap_of(rear_p, rs_local, sub, dist) -> Cap:
-    """Cap (facing +z in the turned frame) of rear pieces `rear_p` (turned coordinates)."""
-    near = np.flatnonzero(np.any(dist >= 0, axis=1)[rs_local])
-    src = rs_local[near]
-    s, e = plane_edges(rear_p[near], sub[src], dist[src], -1)
+def _cap_of(sp: _AxisSplit) -> Cap:
+    """The cap (facing +axis) that closes the rear pieces of a split."""
+    sel = np.flatnonzero(np.any(sp.dist >= 0, axis=1)[sp.rear_row])
+    src = sp.rear_row[sel]
+    s, e = plane_edges(sp.rear_turned[sel], sp.turned[src], sp.dist[src], -1)
     return cap_segments(s, e, lambda pts: pts[:, :2])
 
 
@@ -253,15 +265,15 @@ def _cut_axis(soup: np.ndarray, axis: int, value: float):
     """Split a closed soup by ``x_axis = value``: rear facets, front facets, the cap facing +axis."""
     lo, hi = soup[..., axis].min(axis=1), soup[..., axis].max(axis=1)
     rows = np.flatnonzero((lo <= value) & (hi >= value))
-    rear, front, _, _, dist, sub, _, rs_l, _, rear_t = _split_axis(soup, axis, value, rows)
-    if np.any(np.all(dist == 0, axis=1)):
+    sp = _split_axis(soup, axis, value, rows)
+    if np.any(np.all(sp.dist == 0, axis=1)):
         raise _StairFailed("a facet lies in a slab plane")
-    cap = _cap_of(rear_t, rs_l, sub, dist)
+    cap = _cap_of(sp)
     if not cap.closed:
         raise _StairFailed("a slab plane's section did not close")
     below = hi < value
     above = lo > value
-    return (np.concatenate([soup[below], rear]), np.concatenate([soup[above], front]),
+    return (np.concatenate([soup[below], sp.rear]), np.concatenate([soup[above], sp.front]),
             cap.vertices[..., _UNPERM[axis]])
 
 
@@ -344,16 +356,16 @@ def _terrace(tri: np.ndarray, a: int, b: int, bands: np.ndarray, q: np.ndarray, 
     caps = []
     for w in bands:  # over band planes
         rows = np.flatnonzero((lo <= w) & (hi >= w))
-        rear, front, rsrc, fsrc, dist, sub, fs_l, rs_l, front_t, rear_t = _split_axis(soup, b, w, rows)
-        if np.any(np.all(dist == 0, axis=1)):
+        sp = _split_axis(soup, b, w, rows)
+        if np.any(np.all(sp.dist == 0, axis=1)):
             raise _StairFailed("a facet lies in a band plane")
-        cap = _cap_of(rear_t, rs_l, sub, dist)
+        cap = _cap_of(sp)
         if not cap.closed:
             raise _StairFailed("a band plane's section did not close")
         caps.append(cap.vertices[..., _UNPERM[b]])
         keep = np.ones(len(soup), bool)
         keep[rows] = False
-        new = np.concatenate([rear, front])
+        new = np.concatenate([sp.rear, sp.front])
         soup = np.concatenate([soup[keep], new])
         lo = np.concatenate([lo[keep], new[..., b].min(axis=1)])
         hi = np.concatenate([hi[keep], new[..., b].max(axis=1)])
@@ -372,23 +384,24 @@ def _terrace(tri: np.ndarray, a: int, b: int, bands: np.ndarray, q: np.ndarray, 
     lo, hi = allt[..., a].min(axis=1), allt[..., a].max(axis=1)
     for value in np.unique(q):  # over tread planes
         rows = np.flatnonzero((lo <= value) & (hi >= value))
-        rear, front, rsrc, fsrc, dist, sub, fs_l, rs_l, front_t, rear_t = _split_axis(allt, a, value, rows)
-        if np.any(np.all(dist == 0, axis=1)):
+        sp = _split_axis(allt, a, value, rows)
+        if np.any(np.all(sp.dist == 0, axis=1)):
             raise _StairFailed("a facet lies in a tread plane")
         src_tag, src_cap = tag[rows], is_cap[rows]
-        near = np.any(dist >= 0, axis=1)
+        near = np.any(sp.dist >= 0, axis=1)
+        row = sp.rear_row
         for k in np.flatnonzero(q == value):  # over the bands with this tread
             # Slab k: its surface, the band cap above (as built), the one below (turned over).
             pick_surf = ~src_cap & (src_tag == k)
             pick_top = src_cap & (src_tag == k)
             pick_bot = src_cap & (src_tag == k - 1)
-            sel = np.flatnonzero((pick_surf | pick_top | pick_bot)[rs_l] & near[rs_l])
-            flip = pick_bot[rs_l[sel]]
-            pieces = rear_t[sel].copy()
+            sel = np.flatnonzero((pick_surf | pick_top | pick_bot)[row] & near[row])
+            flip = pick_bot[row[sel]]
+            pieces = sp.rear_turned[sel].copy()
             pieces[flip] = pieces[flip][:, ::-1]
-            corners = sub[rs_l[sel]].copy()
+            corners = sp.turned[row[sel]].copy()
             corners[flip] = corners[flip][:, ::-1]
-            cd = dist[rs_l[sel]].copy()
+            cd = sp.dist[row[sel]].copy()
             cd[flip] = cd[flip][:, ::-1]
             s, e = plane_edges(pieces, corners, cd, -1)
             cap = cap_segments(s, e, lambda pts: pts[:, :2])
@@ -397,12 +410,12 @@ def _terrace(tri: np.ndarray, a: int, b: int, bands: np.ndarray, q: np.ndarray, 
             treads.append(cap.vertices[..., _UNPERM[a]])
         keep = np.ones(len(allt), bool)
         keep[rows] = False
-        new = np.concatenate([rear, front])
+        new = np.concatenate([sp.rear, sp.front])
         allt = np.concatenate([allt[keep], new])
         lo = np.concatenate([lo[keep], new[..., a].min(axis=1)])
         hi = np.concatenate([hi[keep], new[..., a].max(axis=1)])
-        tag = np.concatenate([tag[keep], tag[rsrc], tag[fsrc]])
-        is_cap = np.concatenate([is_cap[keep], is_cap[rsrc], is_cap[fsrc]])
+        tag = np.concatenate([tag[keep], tag[sp.rear_src], tag[sp.front_src]])
+        is_cap = np.concatenate([is_cap[keep], is_cap[sp.rear_src], is_cap[sp.front_src]])
 
     # 3. Sides. A piece lies between two neighbouring planes, so its lowest corner tells its side.
     low = allt[..., a].min(axis=1)
