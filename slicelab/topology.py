@@ -40,6 +40,18 @@ def _row_hash(rows: np.ndarray) -> np.ndarray:
     return h
 
 
+def _row_hash32(rows: np.ndarray) -> np.ndarray:
+    # Three float32 columns: x and y fill one 64-bit word exactly, z is mixed in after it.
+    bits = rows.view(np.uint32).astype(np.uint64)
+    with np.errstate(over="ignore"):
+        h = bits[:, 0] | (bits[:, 1] << np.uint64(32))
+        _fmix(h)
+        h *= _MULT[1]
+        h += bits[:, 2]
+        _fmix(h)
+    return h
+
+
 def exact_ids(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Number identical rows of a float or integer table.
 
@@ -70,6 +82,10 @@ def exact_ids(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         rows = rows[:, None]
     if rows.dtype.kind == "f":
         rows = np.ascontiguousarray(rows.astype(np.float64, copy=False) + 0.0)  # folds -0.0 into 0.0
+        narrow = rows.astype(np.float32)
+        if rows.shape[1] == 3 and np.array_equal(narrow, rows):
+            # Coordinates read from STL are float32 values: compare half the bytes, hash less.
+            rows = narrow
     else:
         rows = np.ascontiguousarray(rows.astype(np.int64, copy=False))
     m = len(rows)
@@ -77,7 +93,9 @@ def exact_ids(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
     shift = np.uint64(max(int(m - 1).bit_length(), 1))
     low = (np.uint64(1) << shift) - np.uint64(1)
-    packed = (_row_hash(rows) & ~low) | np.arange(m, dtype=np.uint64)
+    h = _row_hash32(rows) if rows.dtype == np.float32 else _row_hash(rows)
+    packed = (h & ~low) | np.arange(m, dtype=np.uint64)
+    del h
     packed.sort()
     order = (packed & low).astype(np.int64)
     hs = packed >> shift
@@ -91,22 +109,30 @@ def exact_ids(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     diff = srt[1:] != srt[:-1]
     clash = ~new[1:] & (diff.any(axis=1) if diff.ndim == 2 else diff)
     if clash.any():
-        # Truncated hashes collide now and then in big tables: renumber only those groups, exactly.
+        # Truncated hashes collide now and then in big tables: split only those groups, exactly.
+        # The rows of one colliding group that match its first row keep the group's id; every
+        # other distinct row in it gets a new id after the last one (ids stay 0 .. u-1).
         bad_group = np.zeros(int(group[-1]) + 1, dtype=bool)
         bad_group[group[1:][clash]] = True
-        bad = bad_group[group]
-        _, sub = np.unique(srt[bad], axis=0, return_inverse=True)
+        pos = np.flatnonzero(bad_group[group])
+        _, sub = np.unique(srt[pos], axis=0, return_inverse=True)
+        sub = sub.reshape(-1)
+        _, sub_first = np.unique(sub, return_index=True)
+        sub_group = group[pos][sub_first]
+        by_group = np.lexsort((sub_first, sub_group))  # within a group, the sub seen first leads
+        lead = np.ones(len(by_group), dtype=bool)
+        lead[1:] = sub_group[by_group][1:] != sub_group[by_group][:-1]
+        new_id = np.empty(len(by_group), dtype=np.int64)
+        new_id[by_group[lead]] = sub_group[by_group[lead]]
         n_groups = int(group[-1]) + 1
-        group[bad] = n_groups + sub.reshape(-1)
-        used = np.zeros(n_groups + int(sub.max()) + 1, dtype=bool)
-        used[group] = True
-        group = (np.cumsum(used) - 1)[group]
+        new_id[by_group[~lead]] = n_groups + np.arange(int((~lead).sum()))
+        group[pos] = new_id[sub]
     ids = np.empty(m, dtype=np.int64)
     ids[order] = group
-    first = np.full(int(group.max()) + 1, m, dtype=np.int64)
-    np.minimum.at(first, group, order) if clash.any() else None
-    if not clash.any():
-        first = order[new]  # rows of a group are sorted by index: the group's first is its lowest
+    first = np.empty(int(group.max()) + 1, dtype=np.int64)
+    # Within every id the sorted positions hold ascending row indices, so writing them in
+    # reverse leaves each id's lowest row last, and last writes win.
+    first[group[::-1]] = order[::-1]
     return ids, first
 
 
