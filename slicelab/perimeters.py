@@ -579,7 +579,9 @@ def _gap_fill(tile: GridMask, values: np.ndarray, fill_mask: np.ndarray, levels,
     j = np.minimum(np.floor(values / w), n - 1)
     need = (j + 0.5) * w
     fmax = cv2.dilate(values.astype(np.float32, copy=False), _disc(0.5 * w / p + 1))  # +1 px: rounding
-    uncovered = zone & (fmax < need - 1e-6)
+    # Beyond the perimeters only the filling covers: where its region was too thin to keep (a
+    # wall a little wider than the perimeters), the middle is left to gap fill too.
+    uncovered = (zone & (fmax < need - 1e-6)) | (tile.mask & (values >= n * w))
     # The filling's centre lines stay inside fill_mask; its extrusions reach w/2 further.
     if uncovered.any():
         uncovered &= ~cv2.dilate(fill_mask.view(np.uint8), _disc(0.5 * w / p + 1)).view(bool)

@@ -111,6 +111,13 @@ def test_gap_between_perimeters_is_filled():
     assert np.hypot(*np.diff(longest, axis=0).T).sum() > 15
     np.testing.assert_allclose(longest[:, 1], 0.017 + 0.55, atol=P)
     assert np.all(np.abs(per.gap_widths[k] - 0.3) <= 2 * P)
+    # A 1.9 mm wall: the filling's region (centre lines 0.94 mm in) is a sliver too thin to fill,
+    # so the middle 0.3 mm between the perimeters is gap fill as well.
+    per = perimeters(section_of([rect(0, 0, 20, 1.9) + (0.012, 0.017)]), 0.4, 2, pixel_size=P)
+    assert per.fill == [] and len(per.rings[1]) == 1
+    k = max(range(len(per.gap_fill)), key=lambda i: len(per.gap_fill[i]))
+    np.testing.assert_allclose(per.gap_fill[k][:, 1], 0.017 + 0.95, atol=P)
+    assert np.all(np.abs(per.gap_widths[k] - 0.3) <= 2 * P)
     # Material too thin to print at all (under half a line width) is left alone.
     per = perimeters(section_of([rect(0, 0, 10, 0.12)]), 0.4, 2, pixel_size=P)
     assert per.gap_fill == [] and per.thin_walls == 1
