@@ -469,12 +469,17 @@ def layer_heights(mesh: Mesh, layer_height: float) -> np.ndarray:
     >>> layer_heights(box((0, 0, 0), (1, 1, 1)), 0.25).tolist()
     [0.125, 0.375, 0.625, 0.875]
     """
+    if len(mesh) == 0:
+        _mid_layers(0.0, 0.0, layer_height)  # still refuses a bad height
+        return np.zeros(0)
+    z0, z1 = mesh.bounds[:, 2]
+    return _mid_layers(z0, z1, layer_height)
+
+
+def _mid_layers(z0: float, z1: float, layer_height) -> np.ndarray:
     h = float(layer_height)
     if not (h > 0 and np.isfinite(h)):
         raise ValueError(f"layer height must be a positive number, got {layer_height!r}")
-    if len(mesh) == 0:
-        return np.zeros(0)
-    z0, z1 = mesh.bounds[:, 2]
     k = np.arange(int(np.ceil((z1 - z0) / h)) + 1)
     z = z0 + (k + 0.5) * h
     return z[z < z1]
@@ -511,14 +516,19 @@ def slice_layers(mesh: Mesh, layer_height: float | None = None, *, heights=None,
     """
     if (layer_height is None) == (heights is None):
         raise ValueError("give either layer_height or heights")
-    z = layer_heights(mesh, layer_height) if heights is None else np.asarray(heights, dtype=np.float64).reshape(-1)
+    t = mesh.triangles
+    z0, z1, z2 = t[:, 0, 2], t[:, 1, 2], t[:, 2, 2]
+    zmin = np.minimum(np.minimum(z0, z1), z2)
+    zmax = np.maximum(np.maximum(z0, z1), z2)
+    if heights is None:
+        z = _mid_layers(float(zmin.min()), float(zmax.max()), layer_height) if len(t) else _mid_layers(0.0, 0.0, layer_height)
+    else:
+        z = np.asarray(heights, dtype=np.float64).reshape(-1)
     if not np.isfinite(z).all():
         raise ValueError("plane heights must be finite")
     planes, back = np.unique(z, return_inverse=True)
-    t = mesh.triangles
-    z0, z1, z2 = t[:, 0, 2], t[:, 1, 2], t[:, 2, 2]
-    lo = np.searchsorted(planes, np.minimum(np.minimum(z0, z1), z2), side="right")  # first plane above the lowest corner
-    hi = np.searchsorted(planes, np.maximum(np.maximum(z0, z1), z2), side="right")  # planes <= the highest
+    lo = np.searchsorted(planes, zmin, side="right")  # first plane above each facet's lowest corner
+    hi = np.searchsorted(planes, zmax, side="right")  # planes at or below its highest corner
     count = hi - lo
     facet = np.repeat(np.arange(len(t)), count)
     first = np.repeat(lo - (np.cumsum(count) - count), count)

@@ -30,7 +30,7 @@ def _fmix(h: np.ndarray) -> np.ndarray:
 
 
 def _row_hash(rows: np.ndarray) -> np.ndarray:
-    bits = rows.view(np.uint64)
+    bits = rows if rows.dtype == np.uint64 else rows.view(np.uint64)
     with np.errstate(over="ignore"):
         h = _fmix(bits[:, 0].copy())
         for j in range(1, rows.shape[1]):  # a handful of columns, not rows
@@ -41,15 +41,12 @@ def _row_hash(rows: np.ndarray) -> np.ndarray:
 
 
 def _row_hash32(rows: np.ndarray) -> np.ndarray:
-    # Three float32 columns: x and y fill one 64-bit word exactly, z is mixed in after it.
-    bits = rows.view(np.uint32).astype(np.uint64)
-    with np.errstate(over="ignore"):
-        h = bits[:, 0] | (bits[:, 1] << np.uint64(32))
-        _fmix(h)
-        h *= _MULT[1]
-        h += bits[:, 2]
-        _fmix(h)
-    return h
+    # float32 columns two by two fill 64-bit words exactly; the words are hashed as usual.
+    bits = rows.view(np.uint32)
+    if bits.shape[1] % 2:
+        bits = np.hstack([bits, np.zeros((len(bits), 1), np.uint32)])
+    words = np.ascontiguousarray(bits).view(np.uint64)
+    return _row_hash(words)
 
 
 def exact_ids(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -83,7 +80,7 @@ def exact_ids(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if rows.dtype.kind == "f":
         rows = np.ascontiguousarray(rows.astype(np.float64, copy=False) + 0.0)  # folds -0.0 into 0.0
         narrow = rows.astype(np.float32)
-        if rows.shape[1] == 3 and np.array_equal(narrow, rows):
+        if np.array_equal(narrow, rows):
             # Coordinates read from STL are float32 values: compare half the bytes, hash less.
             rows = narrow
     else:
