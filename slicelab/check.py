@@ -136,17 +136,20 @@ def _topology(t: np.ndarray) -> tuple[int, int, int, int, int]:
     vertices, faces = weld(t)
     et = edge_table(faces)
     counts = et["counts"]
+    first, last, forward = et["first"], et["last"], et["forward"]
     n_open = int(np.count_nonzero(counts == 1))
     n_nonmanifold = int(np.count_nonzero(counts > 2))
     # A two-facet edge is consistent when one facet walks it forward, the other backward.
-    fwd = np.bincount(et["inverse"], weights=et["forward"], minlength=len(counts))
-    n_misoriented = int(np.count_nonzero((counts == 2) & (fwd != 1)))
-    # Shells: every facet edge links its facet to the facet that used that edge first.
-    half = np.arange(3 * n)
-    other = et["first"][et["inverse"]]
-    link = other != half
-    graph = coo_matrix((np.ones(int(link.sum()), dtype=np.int8), (half[link] // 3, other[link] // 3)),
-                       shape=(n, n))
+    two = counts == 2
+    n_misoriented = int(np.count_nonzero(forward[first[two]] == forward[last[two]]))
+    # Shells: each edge links the facets of its lowest and highest facet edge; an edge of three
+    # facets or more (rare) also links every facet edge to its lowest one.
+    a, b = first // 3, last // 3
+    many = np.flatnonzero(counts[et["inverse"]] > 2)
+    if len(many):
+        a = np.concatenate([a, first[et["inverse"][many]] // 3])
+        b = np.concatenate([b, many // 3])
+    graph = coo_matrix((np.ones(len(a), dtype=np.int8), (a, b)), shape=(n, n))
     n_shells, _ = connected_components(graph, directed=False)
     return len(vertices), n_open, n_nonmanifold, n_misoriented, int(n_shells)
 

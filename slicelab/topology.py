@@ -79,9 +79,10 @@ def exact_ids(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         rows = rows[:, None]
     if rows.dtype.kind == "f":
         rows = np.ascontiguousarray(rows.astype(np.float64, copy=False) + 0.0)  # folds -0.0 into 0.0
-        narrow = rows.astype(np.float32)
-        if np.array_equal(narrow, rows):
-            # Coordinates read from STL are float32 values: compare half the bytes, hash less.
+        narrow = rows.astype(np.float32) if rows.shape[1] > 3 else None
+        if narrow is not None and np.array_equal(narrow, rows):
+            # Wide key tables of float32 values (read from STL): hash half the words. Not worth the
+            # extra pass for three columns.
             rows = narrow
     else:
         rows = np.ascontiguousarray(rows.astype(np.int64, copy=False))
@@ -168,8 +169,9 @@ def edge_table(faces: np.ndarray) -> dict[str, np.ndarray]:
     -------
     dict
         ``inverse`` (3n,) edge id of each facet edge (edge i of facet f is
-        ``3 f + i``, from corner i to corner i+1); ``first`` (e,) the first
-        facet edge of each id; ``counts`` (e,) facet edges per id;
+        ``3 f + i``, from corner i to corner i+1); ``first`` and ``last`` (e,)
+        the lowest and highest facet edge of each id; ``counts`` (e,) facet
+        edges per id;
         ``forward`` (3n,) True when the facet edge runs from the lower to the
         higher vertex id.
 
@@ -188,4 +190,6 @@ def edge_table(faces: np.ndarray) -> dict[str, np.ndarray]:
     else:
         inverse, first = exact_ids(np.stack([np.minimum(a, b), np.maximum(a, b)], axis=1))
     counts = np.bincount(inverse, minlength=len(first))
-    return {"inverse": inverse, "first": first, "counts": counts, "forward": a < b}
+    last = np.empty(len(first), dtype=np.int64)
+    last[inverse] = np.arange(len(inverse))  # in order, so each edge's highest facet edge is written last
+    return {"inverse": inverse, "first": first, "last": last, "counts": counts, "forward": a < b}
