@@ -115,6 +115,21 @@ class Mesh:
         object.__setattr__(self, "normals", normals)
         object.__setattr__(self, "file_normals", fn)
 
+    @classmethod
+    def _with_normals(cls, triangles, normals, file_normals) -> "Mesh":
+        """A mesh whose winding normals are already known, for stages that cut facets into pieces.
+
+        A piece of a facet lies in the facet's plane and keeps its winding, so it
+        keeps the facet's normal; taking it over saves recomputing millions of
+        them. The caller vouches that `normals` match the winding.
+        """
+        mesh = object.__new__(cls)
+        for name, value in (("triangles", triangles), ("normals", normals), ("file_normals", file_normals)):
+            value = np.ascontiguousarray(value, dtype=np.float64)
+            value.setflags(write=False)
+            object.__setattr__(mesh, name, value)
+        return mesh
+
     def __len__(self) -> int:
         return len(self.triangles)
 

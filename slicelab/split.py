@@ -285,15 +285,9 @@ def _pieces_mesh(triangles: np.ndarray, source: Mesh, src: np.ndarray) -> Mesh:
     A piece lies in its facet's plane, so its winding normal is its facet's:
     taking it from the source instead of recomputing it is both what the issue
     asks ("pieces keep their normal") and, for millions of facets, most of the
-    cost of building the Mesh. `Mesh` has no public way to accept known
-    normals, so its three fields are set as its own ``__post_init__`` sets them
-    (tests/test_split.py checks the result against a normally built Mesh).
+    cost of building the Mesh (tests/test_split.py checks the result against a
+    normally built Mesh).
     """
-    mesh = object.__new__(Mesh)
-    for name, value in (("triangles", triangles), ("normals", np.take(source.normals, src, axis=0)),
-                        ("file_normals", np.take(source.file_normals, src, axis=0))):
-        value = np.ascontiguousarray(value, dtype=np.float64)
-        value.setflags(write=False)
-        object.__setattr__(mesh, name, value)
-    return mesh
+    return Mesh._with_normals(triangles, np.take(source.normals, src, axis=0),
+                              np.take(source.file_normals, src, axis=0))
 
