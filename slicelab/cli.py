@@ -44,6 +44,12 @@ def _positive(text: str) -> float:
     return value
 
 
+def _check_output_dir(path: Path) -> None:
+    # Refuse before any work is done, so a bad -o never leaves half the outputs behind.
+    if path.exists() and not path.is_dir():
+        raise UsageError(f"{path} exists and is not a directory")
+
+
 def _add_plane_arguments(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("plane (give --z, or --origin and --normal)")
     g.add_argument("--z", type=float, help="horizontal plane at this height (mm)")
@@ -137,8 +143,7 @@ def _add_layers(sub) -> None:
 def _run_layers(args) -> int:
     from .io import load
     from .sections import slice_layers
-    if args.output.exists() and not args.output.is_dir():
-        raise UsageError(f"{args.output} exists and is not a directory")
+    _check_output_dir(args.output)
     t0 = time.perf_counter()
     mesh = load(args.file)
     t1 = time.perf_counter()
@@ -180,8 +185,7 @@ def _run_split(args) -> int:
     origin, normal = _plane(args)
     if args.visible_from is not None and not np.any(args.visible_from):
         raise UsageError("--visible-from must not be the zero vector")
-    if args.output.exists() and not args.output.is_dir():
-        raise UsageError(f"{args.output} exists and is not a directory")
+    _check_output_dir(args.output)
     t0 = time.perf_counter()
     mesh = load(args.file)
     t1 = time.perf_counter()
@@ -339,8 +343,7 @@ def _run_cut(args) -> int:
     from .cut import CutWarning, cut
     from .io import load, save
     origin, normal = _plane(args)
-    if args.output.exists() and not args.output.is_dir():
-        raise UsageError(f"{args.output} exists and is not a directory")
+    _check_output_dir(args.output)
     t0 = time.perf_counter()
     mesh = load(args.file)
     t1 = time.perf_counter()
@@ -415,8 +418,7 @@ def _add_partition(sub) -> None:
 def _run_partition(args) -> int:
     from .io import load, save
     from .partition import partition
-    if args.output.exists() and not args.output.is_dir():
-        raise UsageError(f"{args.output} exists and is not a directory")
+    _check_output_dir(args.output)
     if not (args.clearance >= 0 and np.isfinite(args.clearance)):
         raise UsageError("--clearance must be a number >= 0")
     if args.flight < 1:
@@ -478,8 +480,8 @@ def _run_slice(args) -> int:
             raise UsageError(f"--{name.replace('_', '-')} must be >= 0")
     if args.workers is not None and args.workers < 1:
         raise UsageError("--workers must be at least 1")
-    if args.preview is not None and args.preview.exists() and not args.preview.is_dir():
-        raise UsageError(f"{args.preview} exists and is not a directory")
+    if args.preview is not None:
+        _check_output_dir(args.preview)
     settings = PrintSettings(layer_height=args.layer_height,
                              first_layer_height=args.first_layer_height or args.layer_height,
                              line_width=args.line_width, perimeters=args.perimeters,
