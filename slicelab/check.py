@@ -9,11 +9,9 @@ from concurrent.futures import ThreadPoolExecutor
 from dataclasses import asdict, dataclass
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
 
 from .mesh import Mesh, edge_cross
-from .topology import edge_table, weld
+from .topology import edge_table, shells, weld
 
 __all__ = ["MeshReport", "check", "signed_volume"]
 
@@ -132,7 +130,6 @@ def _longest2_bound(t: np.ndarray) -> np.ndarray:
 
 def _topology(t: np.ndarray) -> tuple[int, int, int, int, int]:
     """Welded vertices, open / non-manifold / misoriented edges and shells."""
-    n = len(t)
     vertices, faces = weld(t)
     et = edge_table(faces)
     counts = et["counts"]
@@ -142,15 +139,7 @@ def _topology(t: np.ndarray) -> tuple[int, int, int, int, int]:
     # A two-facet edge is consistent when one facet walks it forward, the other backward.
     two = counts == 2
     n_misoriented = int(np.count_nonzero(forward[first[two]] == forward[last[two]]))
-    # Shells: each edge links the facets of its lowest and highest facet edge; an edge of three
-    # facets or more (rare) also links every facet edge to its lowest one.
-    a, b = first // 3, last // 3
-    many = np.flatnonzero(counts[et["inverse"]] > 2)
-    if len(many):
-        a = np.concatenate([a, first[et["inverse"][many]] // 3])
-        b = np.concatenate([b, many // 3])
-    graph = coo_matrix((np.ones(len(a), dtype=np.int8), (a, b)), shape=(n, n))
-    n_shells, _ = connected_components(graph, directed=False)
+    n_shells, _ = shells(faces, et)
     return len(vertices), n_open, n_nonmanifold, n_misoriented, int(n_shells)
 
 

@@ -657,20 +657,11 @@ def _counts(e: np.ndarray, V: np.ndarray, margin: float) -> np.ndarray:
 
 
 def _components(t: np.ndarray) -> tuple[int, np.ndarray]:
-    """Facets grouped by shared corners: (count, label of each facet)."""
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-
-    from .topology import weld
+    """Facets grouped into edge-connected shells: (count, label of each facet)."""
+    from .topology import shells, weld
     if len(t) == 0:
         return 0, np.zeros(0, np.int64)
-    v, f = weld(t)
-    n = len(f)
-    g = coo_matrix((np.ones(3 * n, np.int8), (np.repeat(np.arange(n), 3), f.reshape(-1) + n)),
-                   shape=(n + len(v), n + len(v)))
-    k, lab = connected_components(g, directed=False)
-    used, lab_f = np.unique(lab[:n], return_inverse=True)
-    return len(used), lab_f.reshape(-1)
+    return shells(weld(t)[1])
 
 
 def _n_shells(t: np.ndarray) -> int:

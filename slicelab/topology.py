@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["exact_ids", "weld", "edge_table"]
+__all__ = ["exact_ids", "weld", "edge_table", "shells"]
 
 # Odd 64-bit multipliers (from splitmix64 / xxhash) for mixing columns.
 _MULT = np.array(
@@ -193,3 +193,43 @@ def edge_table(faces: np.ndarray) -> dict[str, np.ndarray]:
     last = np.empty(len(first), dtype=np.int64)
     last[inverse] = np.arange(len(inverse))  # in order, so each edge's highest facet edge is written last
     return {"inverse": inverse, "first": first, "last": last, "counts": counts, "forward": a < b}
+
+
+def shells(faces: np.ndarray, edges: dict | None = None) -> tuple[int, np.ndarray]:
+    """Edge-connected shells of a welded mesh: their number and each facet's shell.
+
+    Parameters
+    ----------
+    faces : (n, 3) int ndarray
+    edges : dict, optional
+        `edge_table(faces)`, when already computed.
+
+    Returns
+    -------
+    count : int
+    labels : (n,) int ndarray
+        Shell of each facet, numbered 0 .. count-1.
+
+    Examples
+    --------
+    >>> shells(np.array([[0, 1, 2], [0, 2, 3], [4, 5, 6]]))[1].tolist()
+    [0, 0, 1]
+    """
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    f = np.asarray(faces, dtype=np.int64)
+    n = len(f)
+    if n == 0:
+        return 0, np.zeros(0, np.int64)
+    et = edge_table(f) if edges is None else edges
+    first, last, counts, inverse = et["first"], et["last"], et["counts"], et["inverse"]
+    # Each edge links the facets of its lowest and highest facet edge; an edge of three facets
+    # or more (rare) also links every facet edge to its lowest one.
+    a, b = first // 3, last // 3
+    many = np.flatnonzero(counts[inverse] > 2)
+    if len(many):
+        a = np.concatenate([a, first[inverse[many]] // 3])
+        b = np.concatenate([b, many // 3])
+    graph = coo_matrix((np.ones(len(a), dtype=np.int8), (a, b)), shape=(n, n))
+    count, labels = connected_components(graph, directed=False)
+    return int(count), labels.astype(np.int64)
