@@ -257,6 +257,19 @@ def _cap_of(sp: _AxisSplit) -> Cap:
     return cap_segments(s, e, lambda pts: pts[:, :2])
 
 
+def _replace_split(soup, lo, hi, rows, sp: _AxisSplit, axis: int):
+    """Put the pieces of split facets `rows` (rear, then front) in place of those facets.
+
+    Returns the new soup, its facets' extents `lo`/`hi` along `axis`, and the mask of the
+    facets kept whole (so that per-facet tags can follow).
+    """
+    keep = np.ones(len(soup), bool)
+    keep[rows] = False
+    new = np.concatenate([sp.rear, sp.front])
+    return (np.concatenate([soup[keep], new]), np.concatenate([lo[keep], new[..., axis].min(axis=1)]),
+            np.concatenate([hi[keep], new[..., axis].max(axis=1)]), keep)
+
+
 class _StairFailed(RuntimeError):
     pass
 
@@ -363,12 +376,7 @@ def _terrace(tri: np.ndarray, a: int, b: int, bands: np.ndarray, q: np.ndarray, 
         if not cap.closed:
             raise _StairFailed("a band plane's section did not close")
         caps.append(cap.vertices[..., _UNPERM[b]])
-        keep = np.ones(len(soup), bool)
-        keep[rows] = False
-        new = np.concatenate([sp.rear, sp.front])
-        soup = np.concatenate([soup[keep], new])
-        lo = np.concatenate([lo[keep], new[..., b].min(axis=1)])
-        hi = np.concatenate([hi[keep], new[..., b].max(axis=1)])
+        soup, lo, hi, _ = _replace_split(soup, lo, hi, rows, sp, b)
     # The surface outside the slab takes the points the band planes put on its edges (fans, no cascade).
     outside_a = _refine_along(L, soup, a, s0)
     outside_b = _refine_along(R, soup, a, s1)
@@ -408,12 +416,7 @@ def _terrace(tri: np.ndarray, a: int, b: int, bands: np.ndarray, q: np.ndarray, 
             if not cap.closed:
                 raise _StairFailed("a tread's section did not close")
             treads.append(cap.vertices[..., _UNPERM[a]])
-        keep = np.ones(len(allt), bool)
-        keep[rows] = False
-        new = np.concatenate([sp.rear, sp.front])
-        allt = np.concatenate([allt[keep], new])
-        lo = np.concatenate([lo[keep], new[..., a].min(axis=1)])
-        hi = np.concatenate([hi[keep], new[..., a].max(axis=1)])
+        allt, lo, hi, keep = _replace_split(allt, lo, hi, rows, sp, a)
         tag = np.concatenate([tag[keep], tag[sp.rear_src], tag[sp.front_src]])
         is_cap = np.concatenate([is_cap[keep], is_cap[sp.rear_src], is_cap[sp.front_src]])
 
