@@ -1,11 +1,14 @@
 """Exact vertex welding and edge tables, without rounding and without loops.
 
 Two points are the same vertex only when their coordinates are bit-for-bit
-equal (``-0.0`` and ``0.0`` count as equal). Rows are hashed to 64 bits, sorted
-once, and the hash groups are verified against the full rows, so a hash
-collision can never merge two different vertices.
+equal (``-0.0`` and ``0.0`` count as equal). Rows are hashed into an
+open-addressing table and compared bit for bit with the row already in their
+slot, so a hash collision can never merge two different vertices.
 """
 from __future__ import annotations
+
+import os
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
@@ -19,54 +22,78 @@ _MULT = np.array(
 )
 
 
-def _fmix(h: np.ndarray) -> np.ndarray:
-    # splitmix64 finaliser, in place: a bijection that spreads every bit over the word.
-    h ^= h >> np.uint64(31)
+def _fmix(h: np.ndarray, tmp: np.ndarray) -> np.ndarray:
+    # splitmix64 finaliser, in place (tmp is scratch): a bijection that spreads every bit over the word.
+    np.right_shift(h, np.uint64(31), out=tmp)
+    h ^= tmp
     h *= _MULT[5]
-    h ^= h >> np.uint64(29)
+    np.right_shift(h, np.uint64(29), out=tmp)
+    h ^= tmp
     h *= _MULT[7]
-    h ^= h >> np.uint64(32)
+    np.right_shift(h, np.uint64(32), out=tmp)
+    h ^= tmp
     return h
 
 
-def _row_hash(rows: np.ndarray) -> np.ndarray:
-    bits = rows if rows.dtype == np.uint64 else rows.view(np.uint64)
+def _row_hash(bits: np.ndarray, out: np.ndarray | None = None) -> np.ndarray:
+    """64-bit hash of each row of a (m, k) uint64 table (into `out` when given)."""
+    # Each column is folded (xorshift: its high half, where a float's sign and exponent sit,
+    # reaches the low half) and multiplied before the sum is mixed. A plain sum of products
+    # loses the sign bit, and float32-exact doubles have 29 zero low bits: half the
+    # vertices of a symmetric part would share a hash.
     with np.errstate(over="ignore"):
-        h = _fmix(bits[:, 0].copy())
-        for j in range(1, rows.shape[1]):  # a handful of columns, not rows
-            h *= _MULT[j % len(_MULT)]
-            h += bits[:, j]
-            _fmix(h)
-    return h
+        h = np.empty(len(bits), np.uint64) if out is None else out
+        h.fill(0)
+        tmp = np.empty_like(h)
+        for j in range(bits.shape[1]):  # a handful of columns, not rows
+            np.right_shift(bits[:, j], np.uint64(32), out=tmp)
+            tmp ^= bits[:, j]
+            tmp *= _MULT[j % len(_MULT)]
+            h += tmp
+        return _fmix(h, tmp)
 
 
-def _row_hash32(rows: np.ndarray) -> np.ndarray:
-    # float32 columns two by two fill 64-bit words exactly; the words are hashed as usual.
-    bits = rows.view(np.uint32)
-    if bits.shape[1] % 2:
-        bits = np.hstack([bits, np.zeros((len(bits), 1), np.uint32)])
-    words = np.ascontiguousarray(bits).view(np.uint64)
-    return _row_hash(words)
+# Tables with more rows than this are hashed and verified by two threads: numpy lets go of
+# the GIL in those loops, so both cores share the weld of a big mesh.
+_THREADED_ROWS = 1 << 21
+
+
+def _in_halves(fn, m: int) -> None:
+    """Run ``fn(lo, hi)`` over range(m): two halves on two threads when m is big."""
+    if m < _THREADED_ROWS or (os.cpu_count() or 1) < 2:
+        fn(0, m)
+        return
+    half = m // 2
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        other = pool.submit(fn, half, m)
+        fn(0, half)
+        other.result()
 
 
 def exact_ids(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Number identical rows of a float or integer table.
 
-    Rows are sorted by a hash with the row index packed into the low bits of
-    the same 64-bit word, which lets numpy's fast value sort stand in for an
-    argsort. Groups are then verified against the full rows; the rare groups
-    where different rows share a hash are renumbered exactly.
+    Rows go into an open-addressing hash table (twice as many slots as rows,
+    linear probing) in vectorised rounds: every row still looking for its
+    slot writes its index there if the slot is free, then compares itself,
+    bit for bit, with the row the slot holds. Equal rows probe the same slots
+    in the same rounds, so they always end in the same one; a hash collision
+    only costs a row another round, never a wrong merge. No sort: a few
+    gathers and scatters over the rows, about three times faster than
+    sorting them for the welds of big meshes.
 
     Parameters
     ----------
-    rows : (m, k) ndarray of float64 or int64
+    rows : (m, k) or (m,) ndarray of floats or integers
+        Floats are compared as float64 bit patterns, ``-0.0`` folded into
+        ``0.0`` (a NaN equals a NaN of the same bits).
 
     Returns
     -------
     ids : (m,) int64 ndarray
         Equal rows get equal ids, numbered 0 .. u-1 (in no particular order).
     first : (u,) int64 ndarray
-        Index of the first row of each id.
+        Index of the first (lowest) row of each id.
 
     Examples
     --------
@@ -74,63 +101,66 @@ def exact_ids(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     >>> bool(ids[0] == ids[2]), bool(ids[0] != ids[1]), sorted(first.tolist())
     (True, True, [0, 1])
     """
-    rows = np.ascontiguousarray(rows)
+    rows = np.asarray(rows)
     if rows.ndim == 1:
         rows = rows[:, None]
     if rows.dtype.kind == "f":
-        rows = np.ascontiguousarray(rows.astype(np.float64, copy=False) + 0.0)  # folds -0.0 into 0.0
-        narrow = rows.astype(np.float32) if rows.shape[1] > 3 else None
-        if narrow is not None and np.array_equal(narrow, rows):
-            # Wide key tables of float32 values (read from STL): hash half the words. Not worth the
-            # extra pass for three columns.
-            rows = narrow
+        rows = rows.astype(np.float64, copy=False) + 0.0  # a new contiguous table; folds -0.0 into 0.0
     else:
-        rows = np.ascontiguousarray(rows.astype(np.int64, copy=False))
-    m = len(rows)
+        rows = np.ascontiguousarray(rows, dtype=np.int64)
+    bits = rows.view(np.uint64)
+    m = len(bits)
     if m == 0:
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
-    shift = np.uint64(max(int(m - 1).bit_length(), 1))
-    low = (np.uint64(1) << shift) - np.uint64(1)
-    h = _row_hash32(rows) if rows.dtype == np.float32 else _row_hash(rows)
-    packed = (h & ~low) | np.arange(m, dtype=np.uint64)
-    del h
-    packed.sort()
-    order = (packed & low).astype(np.int64)
-    hs = packed >> shift
-    del packed
-    srt = np.take(rows, order, axis=0)
-    new = np.empty(m, dtype=bool)
-    new[0] = True
-    np.not_equal(hs[1:], hs[:-1], out=new[1:])
-    group = np.cumsum(new) - 1
-    # Within a hash group every row must equal its neighbour; a mismatch is a collision.
-    diff = srt[1:] != srt[:-1]
-    clash = ~new[1:] & (diff.any(axis=1) if diff.ndim == 2 else diff)
-    if clash.any():
-        # Truncated hashes collide now and then in big tables: split only those groups, exactly.
-        # The rows of one colliding group that match its first row keep the group's id; every
-        # other distinct row in it gets a new id after the last one (ids stay 0 .. u-1).
-        bad_group = np.zeros(int(group[-1]) + 1, dtype=bool)
-        bad_group[group[1:][clash]] = True
-        pos = np.flatnonzero(bad_group[group])
-        _, sub = np.unique(srt[pos], axis=0, return_inverse=True)
-        sub = sub.reshape(-1)
-        _, sub_first = np.unique(sub, return_index=True)
-        sub_group = group[pos][sub_first]
-        by_group = np.lexsort((sub_first, sub_group))  # within a group, the sub seen first leads
-        lead = np.ones(len(by_group), dtype=bool)
-        lead[1:] = sub_group[by_group][1:] != sub_group[by_group][:-1]
-        new_id = np.empty(len(by_group), dtype=np.int64)
-        new_id[by_group[lead]] = sub_group[by_group[lead]]
-        n_groups = int(group[-1]) + 1
-        new_id[by_group[~lead]] = n_groups + np.arange(int((~lead).sum()))
-        group[pos] = new_id[sub]
-    ids = np.empty(m, dtype=np.int64)
-    ids[order] = group
-    first = np.empty(int(group.max()) + 1, dtype=np.int64)
-    # Within every id the sorted positions hold ascending row indices, so writing them in
-    # reverse leaves each id's lowest row last, and last writes win.
-    first[group[::-1]] = order[::-1]
+    size = 1 << max(4, (2 * m - 1).bit_length())  # load factor at most 1/2
+    itype = np.int32 if m < 2**31 else np.int64
+    table = np.full(size, -1, itype)
+    slot = np.empty(m, np.int64)
+    keys = bits[:, 0] if bits.shape[1] == 1 else bits
+
+    def hash_rows(lo, hi):
+        h = _row_hash(bits[lo:hi], slot[lo:hi].view(np.uint64))
+        h &= np.uint64(size - 1)
+
+    _in_halves(hash_rows, m)
+    # First round, every row at once and the table empty: writing in reverse order leaves the
+    # lowest row of each slot there (last writes win), so `first` is each id's lowest row.
+    table[slot[::-1]] = np.arange(m - 1, -1, -1, dtype=itype)
+    same = np.empty(m, bool)
+
+    def verify(lo, hi):
+        eq = keys[table[slot[lo:hi]]] == keys[lo:hi]
+        same[lo:hi] = eq.all(axis=1) if eq.ndim == 2 else eq
+
+    _in_halves(verify, m)
+    where = slot  # the slot each row is in (rows that miss move on: written over below)
+    pending = None  # every row, in the first round
+    while True:
+        if pending is not None:
+            same = keys[held] == keys[pending]
+            if same.ndim == 2:
+                same = same.all(axis=1)
+        miss = np.flatnonzero(~same)
+        if len(miss) == 0:
+            break
+        pending = miss.astype(itype) if pending is None else pending[miss]
+        slot = where[pending] + 1
+        slot &= size - 1
+        held = table[slot]
+        free = np.flatnonzero(held < 0)
+        if len(free):
+            table[slot[free[::-1]]] = pending[free[::-1]]
+            held[free] = table[slot[free]]
+        where[pending] = slot
+    used = np.flatnonzero(table >= 0)
+    first = table[used].astype(np.int64)
+    table[used] = np.arange(len(used), dtype=itype)  # the table now maps slot -> id
+    ids = np.empty(m, np.int64)
+
+    def label(lo, hi):
+        ids[lo:hi] = table[where[lo:hi]]
+
+    _in_halves(label, m)
     return ids, first
 
 
@@ -226,8 +256,8 @@ def shells(faces: np.ndarray, edges: dict | None = None) -> tuple[int, np.ndarra
     # Each edge links the facets of its lowest and highest facet edge; an edge of three facets
     # or more (rare) also links every facet edge to its lowest one.
     a, b = first // 3, last // 3
-    many = np.flatnonzero(counts[inverse] > 2)
-    if len(many):
+    if counts.max() > 2:
+        many = np.flatnonzero(counts[inverse] > 2)
         a = np.concatenate([a, first[inverse[many]] // 3])
         b = np.concatenate([b, many // 3])
     graph = coo_matrix((np.ones(len(a), dtype=np.int8), (a, b)), shape=(n, n))

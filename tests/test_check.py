@@ -74,19 +74,44 @@ def test_welding_matches_numpy_unique():
     np.testing.assert_array_equal(v[f], m.triangles)
 
 
-def test_exact_ids_survive_hash_collisions(monkeypatch):
+@pytest.mark.parametrize("hash_of", ["first column", "constant"])
+def test_exact_ids_survive_hash_collisions(monkeypatch, hash_of):
     rng = np.random.default_rng(1)
     rows = rng.integers(0, 7, size=(5000, 3)).astype(float)
-    rows[::2, 0] *= -0.0 if False else 1.0
     rows[rows == 0] = -0.0  # -0.0 must weld with 0.0
-    # A hash that collides constantly: only the first column counts.
-    monkeypatch.setattr(topology, "_row_hash", lambda r: r.view(np.uint64)[:, 0].copy())
+
+    def bad_hash(bits, out=None):
+        out = np.empty(len(bits), np.uint64) if out is None else out
+        out[:] = bits[:, 0] if hash_of == "first column" else 12345
+        return out
+
+    # Hashes that collide constantly: every row probes past many others, exactness must hold.
+    monkeypatch.setattr(topology, "_row_hash", bad_hash)
     ids, first = topology.exact_ids(rows)
     _, expected = np.unique(rows + 0.0, axis=0, return_inverse=True)
     expected = expected.reshape(-1)
     # Same partition: ids and expected determine each other.
     assert len(set(zip(ids.tolist(), expected.tolist()))) == len(first) == expected.max() + 1
     np.testing.assert_array_equal(rows[first][ids] + 0.0, rows + 0.0)
+    # `first` is each id's lowest row.
+    lowest = np.full(len(first), len(rows))
+    np.minimum.at(lowest, ids, np.arange(len(rows)))
+    np.testing.assert_array_equal(first, lowest)
+
+
+def test_exact_ids_threaded_halves_agree_with_numpy(monkeypatch):
+    # Big tables are hashed and verified by two threads; force that path on a small table.
+    monkeypatch.setattr(topology, "_THREADED_ROWS", 1)
+    rng = np.random.default_rng(2)
+    rows = rng.integers(-3, 4, size=(20001, 2)).astype(float) / 4
+    ids, first = topology.exact_ids(rows)
+    _, expected = np.unique(rows + 0.0, axis=0, return_inverse=True)
+    assert len(set(zip(ids.tolist(), expected.reshape(-1).tolist()))) == len(first) == expected.max() + 1
+    np.testing.assert_array_equal(rows[first][ids], rows)
+    ints = rng.integers(0, 50, 30000)
+    ids, first = topology.exact_ids(ints)
+    np.testing.assert_array_equal(ints[first][ids], ints)
+    assert len(first) == len(np.unique(ints))
 
 
 def test_sphere_volume_agrees_with_trimesh():
