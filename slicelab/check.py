@@ -11,7 +11,7 @@ from dataclasses import asdict, dataclass
 import numpy as np
 
 from .mesh import Mesh, edge_cross
-from .topology import edge_table, shells, weld
+from .topology import edge_table, exact_ids, shells
 
 __all__ = ["MeshReport", "check", "signed_volume"]
 
@@ -130,7 +130,8 @@ def _longest2_bound(t: np.ndarray) -> np.ndarray:
 
 def _topology(t: np.ndarray) -> tuple[int, int, int, int, int]:
     """Welded vertices, open / non-manifold / misoriented edges and shells."""
-    vertices, faces = weld(t)
+    ids, corner_of_vertex = exact_ids(t.reshape(-1, 3))  # the weld, without gathering the vertices
+    faces = ids.reshape(-1, 3)
     et = edge_table(faces)
     counts = et["counts"]
     first, last, forward = et["first"], et["last"], et["forward"]
@@ -140,7 +141,7 @@ def _topology(t: np.ndarray) -> tuple[int, int, int, int, int]:
     two = counts == 2
     n_misoriented = int(np.count_nonzero(forward[first[two]] == forward[last[two]]))
     n_shells, _ = shells(faces, et)
-    return len(vertices), n_open, n_nonmanifold, n_misoriented, int(n_shells)
+    return len(corner_of_vertex), n_open, n_nonmanifold, n_misoriented, int(n_shells)
 
 
 def check(mesh: Mesh) -> MeshReport:

@@ -20,6 +20,7 @@ _MULT = np.array(
      0x85EBCA77C2B2AE63, 0xFF51AFD7ED558CCD, 0xC4CEB9FE1A85EC53, 0x94D049BB133111EB],
     dtype=np.uint64,
 )
+_NEG_ZERO = np.float64(-0.0).view(np.uint64)
 
 
 def _fmix(h: np.ndarray, tmp: np.ndarray) -> np.ndarray:
@@ -105,10 +106,12 @@ def exact_ids(rows: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     if rows.ndim == 1:
         rows = rows[:, None]
     if rows.dtype.kind == "f":
-        rows = rows.astype(np.float64, copy=False) + 0.0  # a new contiguous table; folds -0.0 into 0.0
+        rows = np.ascontiguousarray(rows, dtype=np.float64)
+        bits = rows.view(np.uint64)
+        if (bits == _NEG_ZERO).any():  # a whole copy only when there is a -0.0 to fold into 0.0
+            bits = (rows + 0.0).view(np.uint64)
     else:
-        rows = np.ascontiguousarray(rows, dtype=np.int64)
-    bits = rows.view(np.uint64)
+        bits = np.ascontiguousarray(rows, dtype=np.int64).view(np.uint64)
     m = len(bits)
     if m == 0:
         return np.zeros(0, np.int64), np.zeros(0, np.int64)
@@ -216,7 +219,10 @@ def edge_table(faces: np.ndarray) -> dict[str, np.ndarray]:
     b = f[:, [1, 2, 0]].reshape(-1)
     nv = int(f.max()) + 1 if f.size else 1
     if nv < 3_000_000_000:  # (lo, hi) packs into one int64 exactly
-        inverse, first = exact_ids(np.minimum(a, b) * nv + np.maximum(a, b))
+        key = np.minimum(a, b)
+        key *= nv
+        key += np.maximum(a, b)
+        inverse, first = exact_ids(key)
     else:
         inverse, first = exact_ids(np.stack([np.minimum(a, b), np.maximum(a, b)], axis=1))
     counts = np.bincount(inverse, minlength=len(first))
