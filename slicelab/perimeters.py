@@ -77,7 +77,7 @@ class SegmentIndex:
             return dist, best, np.zeros(len(q))
         todo = np.arange(len(q))
         k = min(8, n)
-        while len(todo):  # a few rounds: k doubles for the rare points not yet settled
+        while len(todo):  # a few rounds: k doubles for the points not yet settled
             dm, im = self.tree.query(q[todo], k=k)
             if k == 1:
                 dm, im = dm[:, None], im[:, None]
@@ -137,8 +137,7 @@ def signed_mask_distance(mask: np.ndarray, pixel_size: float, *, outside: bool =
     m8 = np.ascontiguousarray(mask, dtype=np.uint8)
     din = cv2.distanceTransform(m8, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
     if not outside:  # float32, in place: these arrays are the biggest of a layer
-        din -= 0.5
-        din[~np.asarray(mask, bool)] = -0.5
+        din -= 0.5  # pixels outside are at 0 from the background: they become -1/2 too
         din *= pixel_size
         return din
     dout = cv2.distanceTransform(1 - m8, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
@@ -179,12 +178,16 @@ def distance_field(tile: GridMask, index: SegmentIndex | None, levels, *, band: 
     # Only levels inside the material are ever drawn: the outside needs no distances.
     values = signed_mask_distance(tile.mask, p, outside=False)
     refined = 0
-    if index is not None and len(index):
-        sel = np.zeros(tile.shape, bool)
-        for level in levels:  # over levels, few
-            sel |= np.abs(values - level) <= band * p
-        sel &= tile.mask
-        rows, cols = np.nonzero(sel)
+    if index is not None and len(index) and len(levels):
+        import cv2
+        sel = None
+        for level in levels:  # over levels, few; one C pass each (cv2.inRange: 255 inside)
+            near = cv2.inRange(values, float(level - band * p), float(level + band * p))
+            sel = near if sel is None else cv2.bitwise_or(sel, near, dst=sel)
+        sel = cv2.bitwise_and(sel, tile.mask.view(np.uint8))  # 255 & 1: the band in the material
+        found = cv2.findNonZero(sel)  # (x, y) = (col, row), in row-major order like np.nonzero
+        cols, rows = (found.reshape(-1, 2).T.astype(np.int64) if found is not None
+                      else (np.zeros(0, np.int64),) * 2)
         if len(rows):
             exact, _, _ = index.nearest(tile.xy(rows, cols))
             approx = values[rows, cols]
@@ -550,18 +553,19 @@ def _disc(radius_px: float) -> np.ndarray:
 
 
 def _opened(values: np.ndarray, level: float, radius: float, p: float) -> np.ndarray:
-    """A field whose zero set bounds {values >= level} opened by a disc of `radius`.
+    """The region {values >= level} opened by a disc of `radius` (a bool mask).
 
     Parts of the region thinner than 2 radius (slivers where fill lines would run nearly
-    parallel and cover nothing) are removed; elsewhere the zero set is the exact level set,
+    parallel and cover nothing) are removed; elsewhere its edge is the exact level set,
     since the dilated core reaches 1.5 px past it.
     """
     import cv2
     core = values >= level + radius
     if not core.any():
-        return np.full(values.shape, -1.0)
-    allowed = cv2.dilate(core.view(np.uint8), _disc(radius / p + 1.5)).view(bool)
-    return np.where(allowed, values - level, -p)
+        return np.zeros(values.shape, bool)
+    region = cv2.dilate(core.view(np.uint8), _disc(radius / p + 1.5)).view(bool)
+    region &= values >= level
+    return region
 
 
 def _gap_fill(tile: GridMask, values: np.ndarray, fill_mask: np.ndarray, levels, w: float, min_width: float):
@@ -633,7 +637,6 @@ def medial_fill(grid: GridMask, uncovered: np.ndarray, w: float, min_width: floa
     (1, 2.3, 0.275)
     """
     import cv2
-    from skimage.measure import approximate_polygon
     from skimage.morphology import skeletonize
     p = grid.pixel_size
     rows, cols = np.nonzero(uncovered)
@@ -656,7 +659,9 @@ def medial_fill(grid: GridMask, uncovered: np.ndarray, w: float, min_width: floa
     polylines, widths = [], []
     for path in trace_skeleton(skel):  # over gap-fill chains
         width_px = d[path[:, 0], path[:, 1]].astype(np.float64)
-        simple = approximate_polygon(path.astype(np.float64), 0.5)
+        # Douglas-Peucker by OpenCV (skimage's approximate_polygon is the same algorithm, but
+        # importing it loads scipy.signal: half a second in every worker of a print plan).
+        simple = cv2.approxPolyDP(path.astype(np.int32).reshape(-1, 1, 2), 0.5, False).reshape(-1, 2)
         # Widths follow the simplified vertices (nearest skeleton pixel of each).
         near = np.argmin(np.abs(path[:, None, :] - simple[None]).sum(-1), axis=0)
         xy = grid.xy(simple[:, 0] + r0, simple[:, 1] + c0)
@@ -734,7 +739,7 @@ def layer_perimeters(layer, line_width: float = 0.4, count: int = 2, *, pixel_si
         # The filling limit needs no sub-pixel accuracy (its lines end inside the perimeters'
         # overlap): pixel contours of the mask, from OpenCV, are plenty and ten times cheaper.
         # (Half a pixel lower: mask contours run through the boundary pixels' centres.)
-        fill_mask = _opened(fld.values, fill_level - 0.5 * p, 0.5 * w, p) >= 0
+        fill_mask = _opened(fld.values, fill_level - 0.5 * p, 0.5 * w, p)
         if solid is None:
             fill_rings += mask_rings(tile, fill_mask)
         else:

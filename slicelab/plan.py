@@ -350,8 +350,7 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
 def _warm_imports() -> None:
     import cv2  # noqa: F401
     import scipy.spatial  # noqa: F401
-    import skimage.measure  # noqa: F401
-    import skimage.morphology  # noqa: F401
+    from skimage.morphology import skeletonize  # noqa: F401  (skimage loads it lazily, on first use)
 
     from . import filling, gcode, paths, perimeters, raster  # noqa: F401
 
