@@ -328,7 +328,8 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
             from concurrent.futures import ProcessPoolExecutor, as_completed
             _warm_imports()  # forked workers inherit them instead of importing each
             bar = _bar(n, progress)
-            with ProcessPoolExecutor(workers, mp_context=mp.get_context("fork")) as pool:
+            with ProcessPoolExecutor(workers, mp_context=mp.get_context("fork"),
+                                     initializer=_single_threaded) as pool:
                 futures = {pool.submit(_run_chunk, a, b): (a, b) for a, b in chunks}
                 for fut in as_completed(futures):
                     results += fut.result()
@@ -345,6 +346,13 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     t2 = time.perf_counter()
     return PrintPlan(s, layers, heights, offset, areas, float(np.sum(areas[:, 0] * heights)),
                      {"slice": t1 - t0, "paths": t2 - t1})
+
+
+def _single_threaded() -> None:
+    # The pool's processes already fill the cores: OpenCV's own threads in each of them would
+    # only fight over the same cores.
+    import cv2
+    cv2.setNumThreads(1)
 
 
 def _warm_imports() -> None:
