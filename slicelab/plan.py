@@ -328,13 +328,23 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
             from concurrent.futures import ProcessPoolExecutor, as_completed
             _warm_imports()  # forked workers inherit them instead of importing each
             bar = _bar(n, progress)
-            with ProcessPoolExecutor(workers, mp_context=mp.get_context("fork"),
-                                     initializer=_single_threaded) as pool:
-                futures = {pool.submit(_run_chunk, a, b): (a, b) for a, b in chunks}
-                for fut in as_completed(futures):
-                    results += fut.result()
-                    a, b = futures[fut]
-                    bar.update(b - a)
+            import cv2
+            # The pool's processes fill the cores: OpenCV's own threads in each of them would only
+            # fight over the same cores (thousands of context switches a second). Set in this
+            # process before the fork: calling it in a forked child can deadlock on the thread
+            # pool the child inherited.
+            cv_threads = cv2.getNumThreads()
+            cv2.setNumThreads(1)
+            try:
+                with ProcessPoolExecutor(workers, mp_context=mp.get_context("fork")) as pool:
+                    futures = {pool.submit(_run_chunk, a, b): (a, b)
+                               for a, b in _costliest_first(chunks, sections, s)}
+                    for fut in as_completed(futures):
+                        results += fut.result()
+                        a, b = futures[fut]
+                        bar.update(b - a)
+            finally:
+                cv2.setNumThreads(cv_threads)
             bar.close()
     finally:
         _JOB.clear()
@@ -348,11 +358,28 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
                      {"slice": t1 - t0, "paths": t2 - t1})
 
 
-def _single_threaded() -> None:
-    # The pool's processes already fill the cores: OpenCV's own threads in each of them would
-    # only fight over the same cores.
-    import cv2
-    cv2.setNumThreads(1)
+def _costliest_first(chunks: list, sections: list, s: PrintSettings) -> list:
+    """The runs of layers in the order to hand them out: the costliest first, so that no worker
+    is left with a big one at the end while the others idle (longest processing time first).
+
+    A run's cost is taken as its layers' pixel area (every raster pass is over the pixels) and
+    their boundary length (the exact distances are along it); the runs with solid skins (the
+    first and the last) fill every pixel with lines, and go first.
+    """
+    n = len(sections)
+
+    def cost(chunk):
+        a, b = chunk
+        skin = a < s.bottom_layers or b > n - s.top_layers
+        work = 0.0
+        for sec in sections[a:b]:  # over the run's layers, ten
+            if len(sec.segments):
+                lo, hi = sec.segments.min(axis=(0, 1)), sec.segments.max(axis=(0, 1))
+                length = np.hypot(*(sec.segments[:, 1] - sec.segments[:, 0]).T).sum()
+                work += (hi - lo).prod() / s.pixel_size ** 2 + 50 * length / s.pixel_size
+        return (skin, work)
+
+    return sorted(chunks, key=cost, reverse=True)
 
 
 def _warm_imports() -> None:
