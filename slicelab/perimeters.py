@@ -587,13 +587,21 @@ def _gap_fill(tile: GridMask, values: np.ndarray, fill_mask: np.ndarray, levels,
     # Within the perimeters' zone F < n w, a pixel is within w/2 of level j = floor(F / w):
     # covered from above if F >= level j, from below only if level j exists within w/2, i.e.
     # if the largest F within w/2 reaches it. One grey dilation answers for every level.
-    zone = tile.mask & (values < n * w)
-    j = np.minimum(np.floor(values / w), n - 1)
-    need = (j + 0.5) * w
+    inside = tile.mask.view(np.uint8)
     fmax = cv2.dilate(values.astype(np.float32, copy=False), _disc(0.5 * w / p + 1))  # +1 px: rounding
+    # The zone is a band along the boundary, a small part of the tile: its pixels are taken out
+    # and judged one by one. Pixels outside sit at -p/2, below it.
+    zone = cv2.inRange(values, 0.0, float(np.nextafter(np.float32(n * w), np.float32(0))))
+    found = cv2.findNonZero(cv2.bitwise_and(zone, inside))
     # Beyond the perimeters only the filling covers: where its region was too thin to keep (a
     # wall a little wider than the perimeters), the middle is left to gap fill too.
-    uncovered = (zone & (fmax < need - 1e-6)) | (tile.mask & (values >= n * w))
+    uncovered = (values >= n * w) & tile.mask
+    if found is not None:
+        cols, rows = found.reshape(-1, 2).T
+        v = values[rows, cols]
+        need = (np.minimum(np.floor(v / w), n - 1) + 0.5) * w
+        short = fmax[rows, cols] < need - 1e-6
+        uncovered[rows[short], cols[short]] = True
     # The filling's centre lines stay inside fill_mask; its extrusions reach w/2 further.
     if uncovered.any():
         uncovered &= ~cv2.dilate(fill_mask.view(np.uint8), _disc(0.5 * w / p + 1)).view(bool)
@@ -759,8 +767,16 @@ def layer_perimeters(layer, line_width: float = 0.4, count: int = 2, *, pixel_si
         gap_w += gw
         if count:
             import cv2
-            n_lab, lab = cv2.connectedComponents(tile.mask.astype(np.uint8), connectivity=8)
-            reached = np.bincount(lab[fld.values >= levels[0]], minlength=n_lab)
-            thin += int(np.count_nonzero(reached[1:] == 0))
+            n_lab, lab = cv2.connectedComponents(tile.mask.view(np.uint8), connectivity=8)
+            # An island the first level reaches has pixels just above it: the field climbs
+            # from below the level at the boundary by at most ~1.5 px a step, so it cannot
+            # step over a band 3 px wide. Those few pixels say which islands are reached.
+            lv = float(levels[0])
+            ring = cv2.findNonZero(cv2.inRange(fld.values, lv, lv + 3 * p))
+            reached = np.zeros(n_lab, bool)
+            if ring is not None:
+                x, y = ring.reshape(-1, 2).T
+                reached[lab[y, x]] = True
+            thin += int(np.count_nonzero(~reached[1:]))
     return Perimeters(w, levels, [level_polygons(r) for r in rings_by_level], fill_level,
                       level_polygons(fill_rings), level_polygons(solid_rings), gaps, gap_w, thin, fields)

@@ -239,9 +239,11 @@ def winding_numbers(edges: np.ndarray, row0: int, col0: int, shape, pixel_size: 
     x = x0[idx] + t * (x1[idx] - x0[idx])
     cols = np.clip(np.ceil(x / p).astype(np.int64) - col0, 0, w)
     # An upward edge has the material on its left: pixels right of it leave a winding.
-    step = np.where(y1[idx] > y0[idx], -1.0, 1.0)
-    acc = np.bincount((rows - row0) * (w + 1) + cols, weights=step, minlength=h * (w + 1))
-    acc = np.rint(acc).astype(np.int32).reshape(h, w + 1)
+    step = np.where(y1[idx] > y0[idx], np.int32(-1), np.int32(1))
+    # The crossings are few (about two per boundary row) against the window's pixels: added
+    # into an int32 table in place, not counted into a float table the size of the window.
+    acc = np.zeros((h, w + 1), np.int32)
+    np.add.at(acc.reshape(-1), (rows - row0) * (w + 1) + cols, step)
     return np.cumsum(acc, axis=1, dtype=np.int32)[:, :w]
 
 
