@@ -144,8 +144,28 @@ def signed_mask_distance(mask: np.ndarray, pixel_size: float, *, outside: bool =
     return np.where(mask, din.astype(np.float64) - 0.5, 0.5 - dout.astype(np.float64)) * pixel_size
 
 
-def distance_field(tile: GridMask, index: SegmentIndex | None, levels, *, band: float = 1.6) -> DistanceField:
-    """The distance field of a tile, exact within `band` pixels of each level.
+def _crossing_corners(values: np.ndarray, level: float) -> np.ndarray:
+    """0/1 mask of the pixels that are a corner of a cell the level crosses (marching squares)."""
+    import cv2
+    hi = cv2.compare(values, float(level), cv2.CMP_GE)
+    box = np.ones((2, 2), np.uint8)
+    # Cell (i, j) has corners (i..i+1, j..j+1): it is crossed where their max and min differ.
+    cells = cv2.compare(cv2.dilate(hi, box, anchor=(0, 0)), cv2.erode(hi, box, anchor=(0, 0)), cv2.CMP_NE)
+    cells[-1, :] = 0
+    cells[:, -1] = 0
+    return cv2.dilate(cells, box, anchor=(1, 1)) & np.uint8(1)
+
+
+def distance_field(tile: GridMask, index: SegmentIndex | None, levels) -> DistanceField:
+    """The distance field of a tile, exact wherever the contours of `levels` need it.
+
+    OpenCV's distance between pixel centres (`signed_mask_distance`) errs by
+    up to half a pixel; marching squares reads the field only at the corners
+    of the cells a level crosses. Those pixels get the exact distance to the
+    boundary segments. Where that moves a pixel to the other side of a level,
+    the cells around it may start or stop crossing, so their corners are
+    refined too, until no pixel changes side: every cell the contours pass
+    through then has exact corners.
 
     Parameters
     ----------
@@ -154,10 +174,6 @@ def distance_field(tile: GridMask, index: SegmentIndex | None, levels, *, band: 
         The tile's boundary segments; None keeps the pixel-exact field.
     levels : sequence of float
         Distances (mm) whose level sets will be drawn.
-    band : float, default 1.6
-        Half-width of the refined band, in pixels: contours interpolate between
-        pixels within a pixel of a level, and the pixel-exact field errs by
-        half a pixel (more only at tips thinner than a few pixels).
 
     Returns
     -------
@@ -169,7 +185,7 @@ def distance_field(tile: GridMask, index: SegmentIndex | None, levels, *, band: 
     >>> from slicelab.samples import box
     >>> r = slicelab.rasterize(slicelab.section(box((0, 0, 0), (3, 2, 1)), (0, 0, .5), (0, 0, 1)), 0.1)
     >>> t = r.tiles[0]
-    >>> f = distance_field(t, SegmentIndex(r.segments[0], 0.4), [0.2])
+    >>> f = distance_field(t, SegmentIndex(r.segments[0], 0.4), [0.25])
     >>> i, j = np.rint(t.indices([1.5, 0.3])).astype(int)
     >>> round(float(f.values[i, j]), 6), f.refined > 0
     (0.3, True)
@@ -178,24 +194,44 @@ def distance_field(tile: GridMask, index: SegmentIndex | None, levels, *, band: 
     # Only levels inside the material are ever drawn: the outside needs no distances.
     values = signed_mask_distance(tile.mask, p, outside=False)
     refined = 0
-    if index is not None and len(index) and len(levels):
-        import cv2
-        sel = None
-        for level in levels:  # over levels, few; one C pass each (cv2.inRange: 255 inside)
-            near = cv2.inRange(values, float(level - band * p), float(level + band * p))
-            sel = near if sel is None else cv2.bitwise_or(sel, near, dst=sel)
-        sel = cv2.bitwise_and(sel, tile.mask.view(np.uint8))  # 255 & 1: the band in the material
-        found = cv2.findNonZero(sel)  # (x, y) = (col, row), in row-major order like np.nonzero
-        cols, rows = (found.reshape(-1, 2).T.astype(np.int64) if found is not None
-                      else (np.zeros(0, np.int64),) * 2)
-        if len(rows):
-            exact, _, _ = index.nearest(tile.xy(rows, cols))
-            approx = values[rows, cols]
-            # Trust the exact distance only where it agrees with the raster (a segment the rule
-            # buried, or a pixel the rule and the geometry disagree on, stays pixel-exact).
-            ok = np.abs(exact - approx) <= 1.5 * p
-            values[rows[ok], cols[ok]] = exact[ok]
-            refined = int(np.count_nonzero(ok))
+    if index is None or not len(index) or not len(levels):
+        return DistanceField(values, tile, refined)
+    import cv2
+    inside = tile.mask.view(np.uint8)
+    need = None
+    for level in levels:  # over levels, few
+        corners = _crossing_corners(values, level)
+        need = corners if need is None else cv2.bitwise_or(need, corners, dst=need)
+    need = cv2.bitwise_and(need, inside)
+    done = np.zeros(tile.shape, bool)
+    h, w = tile.shape
+    while True:  # rounds: the first refines nearly everything, the others a few pixels
+        found = cv2.findNonZero(need)  # (x, y) = (col, row)
+        if found is None:
+            break
+        cols, rows = found.reshape(-1, 2).T.astype(np.int64)
+        exact, _, _ = index.nearest(tile.xy(rows, cols))
+        approx = values[rows, cols]
+        # Trust the exact distance only where it agrees with the raster (a segment the rule
+        # buried, or a pixel the rule and the geometry disagree on, stays pixel-exact).
+        ok = np.abs(exact - approx) <= 1.5 * p
+        moved = np.zeros(len(rows), bool)
+        for level in levels:  # over levels
+            moved |= (exact >= level) != (approx >= level)
+        moved &= ok
+        values[rows[ok], cols[ok]] = exact[ok]
+        done[rows, cols] = True
+        refined += int(np.count_nonzero(ok))
+        if not moved.any():
+            break
+        # The four cells around a pixel that changed side: their corners, the 3 x 3 block.
+        need = np.zeros(tile.shape, np.uint8)
+        rm, cm = rows[moved], cols[moved]
+        for dr in (-1, 0, 1):
+            for dc in (-1, 0, 1):
+                need[np.clip(rm + dr, 0, h - 1), np.clip(cm + dc, 0, w - 1)] = 1
+        need &= inside
+        need[done] = 0
     return DistanceField(values, tile, refined)
 
 
