@@ -120,12 +120,16 @@ class DistanceField:
     refined: int = 0
 
 
-def signed_mask_distance(mask: np.ndarray, pixel_size: float, *, outside: bool = True) -> np.ndarray:
+def signed_mask_distance(mask: np.ndarray, pixel_size: float, *, outside: bool = True,
+                         precise: bool = True) -> np.ndarray:
     """Approximate signed distance (mm) to a mask's boundary: positive inside, from OpenCV.
 
     The boundary is taken half a pixel beyond the last pixel centre. With
     ``outside=False`` every pixel outside gets -p/2 (one transform instead of two),
     and the result is float32 (micrometre-exact for any layer under 100 m).
+    ``precise=False`` takes OpenCV's 5 x 5 chamfer distance instead of the exact
+    distance between pixel centres: within about 2 % of it, and three times
+    faster on one thread (`distance_field` refines what the contours need).
 
     Examples
     --------
@@ -135,7 +139,7 @@ def signed_mask_distance(mask: np.ndarray, pixel_size: float, *, outside: bool =
     """
     import cv2
     m8 = np.ascontiguousarray(mask, dtype=np.uint8)
-    din = cv2.distanceTransform(m8, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
+    din = cv2.distanceTransform(m8, cv2.DIST_L2, cv2.DIST_MASK_PRECISE if precise else cv2.DIST_MASK_5)
     if not outside:  # float32, in place: these arrays are the biggest of a layer
         din -= 0.5  # pixels outside are at 0 from the background: they become -1/2 too
         din *= pixel_size
@@ -192,7 +196,7 @@ def distance_field(tile: GridMask, index: SegmentIndex | None, levels) -> Distan
     """
     p = tile.pixel_size
     # Only levels inside the material are ever drawn: the outside needs no distances.
-    values = signed_mask_distance(tile.mask, p, outside=False)
+    values = signed_mask_distance(tile.mask, p, outside=False, precise=False)
     refined = 0
     if index is None or not len(index) or not len(levels):
         return DistanceField(values, tile, refined)
