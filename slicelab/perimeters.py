@@ -345,20 +345,21 @@ def march(values: np.ndarray, level: float) -> list[np.ndarray]:
 
     from .loops import chain_segments
     v = np.asarray(values)
+    if v.dtype not in (np.float32, np.float64):  # what cv2.compare takes
+        v = v.astype(np.float64)
     h, w = v.shape
     if h < 2 or w < 2:
         return []
-    hi = v >= level
     # Cells (i, j) with corners (i..i+1, j..j+1) on both sides of the level: the 2 x 2 maximum
-    # and minimum differ. OpenCV's morphology and findNonZero do it in a few fast passes.
-    h8 = hi.view(np.uint8)
+    # and minimum differ. OpenCV's compare, morphology and findNonZero do it in a few fast passes.
+    h8 = cv2.compare(v, float(level), cv2.CMP_GE)
     box = np.ones((2, 2), np.uint8)
-    mixed = cv2.dilate(h8, box, anchor=(0, 0)) != cv2.erode(h8, box, anchor=(0, 0))
-    found = cv2.findNonZero(mixed[:-1, :-1].view(np.uint8))
+    mixed = cv2.compare(cv2.dilate(h8, box, anchor=(0, 0)), cv2.erode(h8, box, anchor=(0, 0)), cv2.CMP_NE)
+    found = cv2.findNonZero(mixed[:-1, :-1])
     if found is None:
         return []
     c, r = found.reshape(-1, 2).T.astype(np.int64)  # (x, y) = (col, row), in row-major order
-    cu, cr, cl, cw = hi[r, c], hi[r, c + 1], hi[r + 1, c], hi[r + 1, c + 1]
+    cu, cr, cl, cw = v[r, c] >= level, v[r, c + 1] >= level, v[r + 1, c] >= level, v[r + 1, c + 1] >= level
     et, eb, el, er = cu != cr, cl != cw, cu != cl, cr != cw
     # Edge keys: horizontal edge (i, j)-(i, j+1) is 2 (i w + j); vertical (i, j)-(i+1, j) is that + 1.
     k_top, k_bottom = 2 * (r * w + c), 2 * ((r + 1) * w + c)

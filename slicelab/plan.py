@@ -307,7 +307,13 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     if len(bounds) == 0:
         raise ValueError("the part is flat: nothing to print")
     mid = lo[2] + bounds.mean(axis=1)
+    # The modules the layers need load on a thread while the part is sliced (numpy lets go of
+    # the GIL): forked workers then inherit them instead of importing each.
+    import threading
+    warm = threading.Thread(target=_warm_imports, daemon=True)
+    warm.start()
     sections = slice_layers(mesh, heights=mid)
+    warm.join()
     t1 = time.perf_counter()
     n = len(sections)
     workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))
@@ -326,7 +332,6 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
         else:
             import multiprocessing as mp
             from concurrent.futures import ProcessPoolExecutor, as_completed
-            _warm_imports()  # forked workers inherit them instead of importing each
             bar = _bar(n, progress)
             import cv2
             # The pool's processes fill the cores: OpenCV's own threads in each of them would only
