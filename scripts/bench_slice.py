@@ -2,14 +2,15 @@
 
 Same settings on both sides: 0.2 mm layers (first layer too), 0.4 mm lines everywhere, two
 perimeters, 20% rectilinear infill, 3 top and 3 bottom solid layers, no skirt, no minimum shell
-thickness (PrusaSlicer would otherwise add a fourth top layer). Each tool runs once, as a
-command-line subprocess from a cold start (load, slice, write G-code); wall time, peak memory (the
+thickness (PrusaSlicer would otherwise add a fourth top layer). Each tool runs as a
+command-line subprocess from a cold start (load, slice, write G-code), the two tools taking turns
+`--repeat` times (3 by default; the medians are compared); wall time, peak memory (the
 summed resident size of the process and its children, sampled every 20 ms) and the filament each
 G-code extrudes are printed, with the ratios. slicelab runs at its default 0.05 mm pixel on all
 cores. PrusaSlicer is Debian's `prusa-slicer` (`apt-get install -y prusa-slicer`); the comparison is
 skipped with a note when it is absent. The machine is shared, so timings are noisy.
 
-    python scripts/bench_slice.py [--mesh data/large/torus_1m.stl] [--workers N]
+    python scripts/bench_slice.py [--mesh data/large/torus_1m.stl] [--workers N] [--repeat 3]
 """
 from __future__ import annotations
 
@@ -17,6 +18,7 @@ import argparse
 import os
 import re
 import shutil
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -103,6 +105,7 @@ def main(argv=None) -> int:
     ap.add_argument("--mesh", type=Path, default=ROOT / "data" / "large" / "torus_1m.stl")
     ap.add_argument("--workers", type=int, default=None)
     ap.add_argument("--pixel-size", type=float, default=0.05)
+    ap.add_argument("--repeat", type=int, default=3, help="alternating runs per tool (median wall time)")
     args = ap.parse_args(argv)
     if not args.mesh.exists():
         print(f"{args.mesh} is missing: run `make data-large`")
@@ -115,36 +118,51 @@ def main(argv=None) -> int:
     if args.workers:
         cmd += ["--workers", str(args.workers)]
     print(f"{args.mesh.name}: {LAYER} mm layers, {WIDTH} mm lines, {PERIMETERS} perimeters, {INFILL}% infill, "
-          f"{SOLID} top/bottom layers; {os.cpu_count()} cores, shared machine (noisy timings)")
-    t_ours, m_ours, r = run(cmd)
-    if r.returncode:
-        print(r.stderr[-3000:])
-        return 1
-    print(r.stdout.strip())
-    f_ours = extruded_filament(ours)
-    rows = [("slicelab", t_ours, m_ours, f_ours)]
+          f"{SOLID} top/bottom layers; {os.cpu_count()} cores, shared machine (noisy timings); "
+          f"{args.repeat} alternating run(s) per tool, medians compared")
     prusa = shutil.which("prusa-slicer") or shutil.which("prusaslicer")
     if prusa is None:
         print("prusa-slicer is not installed (apt-get install -y prusa-slicer): no comparison")
-    else:
-        theirs = tmp / "prusa.gcode"
-        pcmd = [prusa, "--export-gcode", "--layer-height", str(LAYER), "--first-layer-height", str(LAYER),
-                "--perimeters", str(PERIMETERS), "--fill-density", f"{INFILL}%", "--fill-pattern", "rectilinear",
-                "--top-solid-layers", str(SOLID), "--bottom-solid-layers", str(SOLID),
-                "--top-solid-min-thickness", "0", "--bottom-solid-min-thickness", "0",
-                "--extrusion-width", str(WIDTH), "--first-layer-extrusion-width", str(WIDTH),
-                "--skirts", "0", "-o", str(theirs), str(args.mesh)]
-        t_p, m_p, rp = run(pcmd)
-        if rp.returncode or not theirs.exists():
-            print("prusa-slicer failed:", (rp.stderr or rp.stdout)[-2000:])
-        else:
-            rows.append(("PrusaSlicer", t_p, m_p, extruded_filament(theirs)))
-    print(f"\n{'tool':<12}{'wall s':>9}{'peak MB':>10}{'filament mm':>13}")
-    for name, t, m, f in rows:
-        print(f"{name:<12}{t:>9.2f}{m:>10.0f}{f:>13.0f}")
-    if len(rows) == 2:
-        (_, t0, m0, f0), (_, t1, m1, f1) = rows
+    theirs = tmp / "prusa.gcode"
+    pcmd = [prusa, "--export-gcode", "--layer-height", str(LAYER), "--first-layer-height", str(LAYER),
+            "--perimeters", str(PERIMETERS), "--fill-density", f"{INFILL}%", "--fill-pattern", "rectilinear",
+            "--top-solid-layers", str(SOLID), "--bottom-solid-layers", str(SOLID),
+            "--top-solid-min-thickness", "0", "--bottom-solid-min-thickness", "0",
+            "--extrusion-width", str(WIDTH), "--first-layer-extrusion-width", str(WIDTH),
+            "--skirts", "0", "-o", str(theirs), str(args.mesh)]
+    runs = {"slicelab": [], "PrusaSlicer": []}
+    for _ in range(args.repeat):  # alternating, so both tools see the same machine load
+        t, m, r = run(cmd)
+        if r.returncode:
+            print(r.stderr[-3000:])
+            return 1
+        runs["slicelab"].append((t, m))
+        if prusa is not None:
+            t, m, rp = run(pcmd)
+            if rp.returncode or not theirs.exists():
+                print("prusa-slicer failed:", (rp.stderr or rp.stdout)[-2000:])
+                prusa = None
+            else:
+                runs["PrusaSlicer"].append((t, m))
+    print(r.stdout.strip())
+    filament = {"slicelab": extruded_filament(ours)}
+    if runs["PrusaSlicer"]:
+        filament["PrusaSlicer"] = extruded_filament(theirs)
+    print(f"\n{'tool':<12}{'wall s':>9}{'peak MB':>10}{'filament mm':>13}   runs (s)")
+    med = {}
+    for name, rs in runs.items():
+        if not rs:
+            continue
+        med[name] = (statistics.median(t for t, _ in rs), max(m for _, m in rs))
+        print(f"{name:<12}{med[name][0]:>9.2f}{med[name][1]:>10.0f}{filament[name]:>13.0f}   "
+              + " ".join(f"{t:.2f}" for t, _ in rs))
+    if len(med) == 2:
+        (t0, m0), (t1, m1) = med["slicelab"], med["PrusaSlicer"]
+        f0, f1 = filament["slicelab"], filament["PrusaSlicer"]
         print(f"{'ratio':<12}{t0 / t1:>9.2f}{m0 / m1:>10.2f}{f0 / f1:>13.3f}   (slicelab / PrusaSlicer)")
+        print(f"target: wall time <= PrusaSlicer's: {t0 / t1:.2f}x  {'PASS' if t0 <= t1 else 'MISS'}")
+        print(f"target: filament within 10% of PrusaSlicer's: {100 * (f0 / f1 - 1):+.1f}%  "
+              f"{'PASS' if abs(f0 / f1 - 1) <= 0.10 else 'MISS'}")
     shutil.rmtree(tmp, ignore_errors=True)
     return 0
 
