@@ -148,16 +148,28 @@ def signed_mask_distance(mask: np.ndarray, pixel_size: float, *, outside: bool =
     return np.where(mask, din.astype(np.float64) - 0.5, 0.5 - dout.astype(np.float64)) * pixel_size
 
 
-def _crossing_corners(values: np.ndarray, level: float) -> np.ndarray:
-    """0/1 mask of the pixels that are a corner of a cell the level crosses (marching squares)."""
+_BOX = np.ones((2, 2), np.uint8)
+
+
+def _crossed_cells(values: np.ndarray, level: float) -> np.ndarray:
+    """255/0 mask of the marching-squares cells the level crosses, indexed by their first corner.
+
+    Cell (i, j) has corners (i..i+1, j..j+1): it is crossed where their 2 x 2
+    maximum and minimum (of ``values >= level``) differ. OpenCV's compare and
+    morphology do it in a few fast passes. The last row and column hold no cell.
+    """
     import cv2
     hi = cv2.compare(values, float(level), cv2.CMP_GE)
-    box = np.ones((2, 2), np.uint8)
-    # Cell (i, j) has corners (i..i+1, j..j+1): it is crossed where their max and min differ.
-    cells = cv2.compare(cv2.dilate(hi, box, anchor=(0, 0)), cv2.erode(hi, box, anchor=(0, 0)), cv2.CMP_NE)
+    cells = cv2.compare(cv2.dilate(hi, _BOX, anchor=(0, 0)), cv2.erode(hi, _BOX, anchor=(0, 0)), cv2.CMP_NE)
     cells[-1, :] = 0
     cells[:, -1] = 0
-    return cv2.dilate(cells, box, anchor=(1, 1)) & np.uint8(1)
+    return cells
+
+
+def _crossing_corners(values: np.ndarray, level: float) -> np.ndarray:
+    """0/1 mask of the pixels that are a corner of a cell the level crosses."""
+    import cv2
+    return cv2.dilate(_crossed_cells(values, level), _BOX, anchor=(1, 1)) & np.uint8(1)
 
 
 def distance_field(tile: GridMask, index: SegmentIndex | None, levels) -> DistanceField:
@@ -350,12 +362,7 @@ def march(values: np.ndarray, level: float) -> list[np.ndarray]:
     h, w = v.shape
     if h < 2 or w < 2:
         return []
-    # Cells (i, j) with corners (i..i+1, j..j+1) on both sides of the level: the 2 x 2 maximum
-    # and minimum differ. OpenCV's compare, morphology and findNonZero do it in a few fast passes.
-    h8 = cv2.compare(v, float(level), cv2.CMP_GE)
-    box = np.ones((2, 2), np.uint8)
-    mixed = cv2.compare(cv2.dilate(h8, box, anchor=(0, 0)), cv2.erode(h8, box, anchor=(0, 0)), cv2.CMP_NE)
-    found = cv2.findNonZero(mixed[:-1, :-1])
+    found = cv2.findNonZero(_crossed_cells(v, level))
     if found is None:
         return []
     c, r = found.reshape(-1, 2).T.astype(np.int64)  # (x, y) = (col, row), in row-major order
