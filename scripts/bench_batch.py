@@ -87,7 +87,7 @@ def make_vessels(folder: Path) -> None:
 
     import slicelab
     from slicelab import Mesh, samples
-    from slicelab.topology import weld
+    from slicelab.geometry.topology import weld
     for k in range(N_FILES):
         mesh = samples.pot(30 + 2 * (k % 16), 36 + 4 * (k % 10))
         if k % 4 == 1:
@@ -100,7 +100,7 @@ def make_vessels(folder: Path) -> None:
 
 
 def run_batches(folder: Path, out_root: Path) -> list[tuple[str, float, object]]:
-    from slicelab.batch import run_batch, task_parameters
+    from slicelab.tasks.batch import run_batch, task_parameters
     params = task_parameters("profile", planes=6)
     runs = []
     for label, kw in (("1 worker (in process)", {"workers": 1}), ("2 local processes", {"workers": 2})):
@@ -159,7 +159,7 @@ def main() -> int:
         summaries = {(tmp / "out" / (label.split()[0] if "Dask" not in label else "dask") / "summary.csv")
                      .read_text() for label, _, _ in runs}
         print(f"  summaries identical across runs: {'yes' if len(summaries) == 1 else 'NO'}")
-        from slicelab.batch import run_batch, task_parameters
+        from slicelab.tasks.batch import run_batch, task_parameters
         t0 = time.perf_counter()
         again = run_batch(folder, tmp / "out" / "1", "profile", task_parameters("profile", planes=6),
                           workers=1, progress=False)

@@ -84,7 +84,7 @@ def child(tool: str, path: str, origin: str, normal: str) -> None:
     else:
         import manifold3d as mf
 
-        from slicelab.topology import weld
+        from slicelab.geometry.topology import weld
         t0 = time.perf_counter()
         v, f = weld(soup)
         solid = mf.Manifold(mf.Mesh64(vert_properties=v, tri_verts=f.astype(np.uint64)))

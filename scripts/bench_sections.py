@@ -56,7 +56,7 @@ def child_layers(path: str) -> None:
     import trimesh
 
     import slicelab
-    from slicelab.sections import layer_heights
+    from slicelab.slicing.sections import layer_heights
 
     mesh = slicelab.load(path)
     t0 = time.perf_counter()

@@ -51,7 +51,7 @@ def scanned_pot(seed: int = 8, noise: float = 0.1, sherd: bool = True):
     """
     import slicelab
     from slicelab import Mesh, samples
-    from slicelab.topology import weld
+    from slicelab.geometry.topology import weld
     pot = slicelab.load(DATA / "pot.stl")
     rng = np.random.default_rng(seed)
     v, f = weld(pot.triangles)
@@ -189,7 +189,7 @@ def profile_drawing(out):
 # ===================================================================== runner
 def render(stage: str, name: str, out: Path) -> list[Path]:
     """Make one figure and write it under `out`; return the files written."""
-    from slicelab.io import atomic_path
+    from slicelab.mesh.io import atomic_path
     out.mkdir(parents=True, exist_ok=True)
     result = FIGURES[stage][name](out)
     if isinstance(result, list):

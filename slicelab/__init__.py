@@ -1,59 +1,57 @@
-"""slicelab: exact slicing of triangle meshes (STL) and what labs make of each layer.
+"""slicelab: exact slicing of triangle meshes and what labs make of each layer.
 
-Each stage lives in its own module and passes plain data:
+The package is laid out by concept; each subpackage re-exports its public
+names (``__all__``) and keeps one job per module:
 
-========================  ====================================================
-``slicelab.io``           `load`, `save`, `MeshFileError`
-``slicelab.mesh``         `Mesh`, the small immutable container
-``slicelab.check``        `check` -> `MeshReport` (normals, open edges, shells)
-``slicelab.sections``     `section`, `slice_layers` -> `Section`
-``slicelab.loops``        chaining segments into loops, hole hierarchy
-========================  ====================================================
+=======================  ==========================================================
+``slicelab.geometry``    plain-array kernels: plane frames, topology, chains, polygons
+``slicelab.mesh``        `Mesh`, STL input/output, `check`
+``slicelab.slicing``     sections, splits, watertight cuts, partitions into pieces
+``slicelab.toolpath``    layer rasters, perimeters, infill, paths, the print plan
+``slicelab.artefacts``   vessel axis, profiles, measurements, drawings
+``slicelab.export``      safe file output, G-code
+``slicelab.viz``         matplotlib figures and previews (imported on first use)
+``slicelab.tasks``       jobs on files for the command line and batches
+``slicelab.samples``     analytic sample meshes (boxes, tori, pots, staircases)
+=======================  ==========================================================
+
+The most used names are available here; everything but the mesh basics
+loads on first use, so ``import slicelab`` and the command line stay fast.
+
+Examples
+--------
+>>> import slicelab
+>>> from slicelab.samples import box
+>>> slicelab.section(box(), (0, 0, 0.5), (0, 0, 1)).area
+1.0
 """
 from __future__ import annotations
 
 import importlib
-import sys
-import types
 
-from .check import MeshReport, check
-from .io import MeshFileError, load, save
-from .mesh import Mesh
+from .mesh import Mesh, MeshFileError, MeshReport, check, load, save
 
 __version__ = "0.1.0"
 
-# Heavier stages load on first use, so `import slicelab` and the CLI stay fast.
+# Public name -> the module that defines it, loaded on first use.
 _LAZY = {
-    "Section": "sections", "Frame": "sections", "section": "sections", "slice_layers": "sections",
-    "Split": "split", "split": "split",
-    "align": "artefacts", "Alignment": "artefacts", "profile": "artefacts", "Profile": "artefacts",
-    "Measurements": "artefacts", "run_batch": "batch",
-    "rasterize": "raster", "LayerRaster": "raster", "GridMask": "raster", "raster_hierarchy": "raster",
-    "layer_perimeters": "perimeters", "Perimeters": "perimeters",
-    "layer_paths": "paths", "LayerPaths": "paths",
-    "PrintSettings": "plan", "PrintPlan": "plan", "plan": "plan",
-    "cut": "cut", "Cut": "cut", "CutWarning": "cut",
-    "partition": "partition", "Partition": "partition", "stair_cut": "partition", "StairCut": "partition",
+    "Section": "slicing.sections", "section": "slicing.sections", "slice_layers": "slicing.sections",
+    "Frame": "geometry.planes",
+    "Split": "slicing.split", "split": "slicing.split",
+    "cut": "slicing.cut", "Cut": "slicing.cut", "CutWarning": "slicing.cut",
+    "partition": "slicing.partition", "Partition": "slicing.partition",
+    "stair_cut": "slicing.partition", "StairCut": "slicing.partition",
+    "align": "artefacts.profiles", "Alignment": "artefacts.profiles", "profile": "artefacts.profiles",
+    "Profile": "artefacts.profiles", "Measurements": "artefacts.profiles",
+    "run_batch": "tasks.batch",
+    "rasterize": "toolpath.raster", "LayerRaster": "toolpath.raster", "GridMask": "toolpath.raster",
+    "raster_hierarchy": "toolpath.raster",
+    "layer_perimeters": "toolpath.perimeters", "Perimeters": "toolpath.perimeters",
+    "layer_paths": "toolpath.paths", "LayerPaths": "toolpath.paths",
+    "PrintSettings": "toolpath.planner", "PrintPlan": "toolpath.planner", "plan": "toolpath.planner",
 }
 
 __all__ = ["Mesh", "MeshFileError", "MeshReport", "check", "load", "save", "__version__", *_LAZY]
-
-
-class _Package(types.ModuleType):
-    """The package module: a stage's function keeps its name when its module has the same name.
-
-    Importing a submodule makes the import system set ``slicelab.<name>`` to that module;
-    for ``split``, ``plan``, ``cut`` and the like the function must stay under that name
-    (the module itself is always in ``sys.modules``).
-    """
-
-    def __setattr__(self, name, value):
-        if isinstance(value, types.ModuleType) and _LAZY.get(name) == name:
-            value = getattr(value, name)
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Package
 
 
 def __getattr__(name):

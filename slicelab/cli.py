@@ -15,7 +15,8 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
-from .io import MeshFileError, atomic_open
+from .export.files import atomic_open
+from .mesh.io import MeshFileError
 
 __all__ = ["main"]
 
@@ -78,8 +79,8 @@ def _add_inspect(sub) -> None:
 
 
 def _run_inspect(args) -> int:
-    from .check import check
-    from .io import load
+    from .mesh.io import load
+    from .mesh.validation import check
     status = 0
     for path in args.files:
         try:
@@ -111,8 +112,8 @@ def _add_section(sub) -> None:
 
 
 def _run_section(args) -> int:
-    from .io import load
-    from .sections import section
+    from .mesh.io import load
+    from .slicing.sections import section
     origin, normal = _plane(args)
     t0 = time.perf_counter()
     mesh = load(args.file)
@@ -141,8 +142,8 @@ def _add_layers(sub) -> None:
 
 
 def _run_layers(args) -> int:
-    from .io import load
-    from .sections import slice_layers
+    from .mesh.io import load
+    from .slicing.sections import slice_layers
     _check_output_dir(args.output)
     t0 = time.perf_counter()
     mesh = load(args.file)
@@ -180,8 +181,8 @@ def _add_split(sub) -> None:
 
 
 def _run_split(args) -> int:
-    from .io import load, save
-    from .split import split
+    from .mesh.io import load, save
+    from .slicing.split import split
     origin, normal = _plane(args)
     if args.visible_from is not None and not np.any(args.visible_from):
         raise UsageError("--visible-from must not be the zero vector")
@@ -197,7 +198,7 @@ def _run_split(args) -> int:
     s.section.to_svg(args.output / "section.svg")
     t3 = time.perf_counter()
     if not args.no_preview:
-        from .preview import save_split_preview
+        from .viz.preview import save_split_preview
         save_split_preview(s, args.output / "preview.png")
     t4 = time.perf_counter()
     sec = s.section
@@ -232,8 +233,8 @@ def _add_profile(sub) -> None:
 
 
 def _run_profile(args) -> int:
-    from .artefacts import profile
-    from .io import load
+    from .artefacts.profiles import profile
+    from .mesh.io import load
     if args.planes < 1:
         raise UsageError("--planes must be at least 1")
     t0 = time.perf_counter()
@@ -291,7 +292,7 @@ def _add_batch(sub) -> None:
 
 
 def _run_batch(args) -> int:
-    from .batch import run_batch, task_parameters
+    from .tasks.batch import run_batch, task_parameters
     if not args.folder.is_dir():
         raise UsageError(f"{args.folder}: not a folder")
     if args.workers is not None and args.workers < 1:
@@ -339,9 +340,9 @@ def _add_cut(sub) -> None:
 def _run_cut(args) -> int:
     import warnings
 
-    from .check import check
-    from .cut import CutWarning, cut
-    from .io import load, save
+    from .mesh.io import load, save
+    from .mesh.validation import check
+    from .slicing.cut import CutWarning, cut
     origin, normal = _plane(args)
     _check_output_dir(args.output)
     t0 = time.perf_counter()
@@ -355,7 +356,7 @@ def _run_cut(args) -> int:
     for name, part in (("rear", parts.rear), ("front", parts.front)):
         save(part, args.output / f"{name}.stl")
     if not args.no_preview:
-        from .partition import save_exploded_png
+        from .slicing.partition import save_exploded_png
         save_exploded_png(parts, args.output / "exploded.png", spread=0.35,
                           title=f"{args.file.name}: cut")
     t3 = time.perf_counter()
@@ -416,8 +417,8 @@ def _add_partition(sub) -> None:
 
 
 def _run_partition(args) -> int:
-    from .io import load, save
-    from .partition import partition
+    from .mesh.io import load, save
+    from .slicing.partition import partition
     _check_output_dir(args.output)
     if not (args.clearance >= 0 and np.isfinite(args.clearance)):
         raise UsageError("--clearance must be a number >= 0")
@@ -436,7 +437,7 @@ def _run_partition(args) -> int:
     with atomic_open(args.output / "parts.json", "w", encoding="utf-8") as fh:
         json.dump({"file": str(args.file), **parts.report.to_dict()}, fh, indent=1)
     if not args.no_preview:
-        from .partition import save_exploded_png
+        from .slicing.partition import save_exploded_png
         save_exploded_png(parts, args.output / "exploded.png",
                           title=f"{args.file.name}: {len(parts)} pieces, {args.joint} joints")
     t3 = time.perf_counter()
@@ -471,8 +472,8 @@ def _add_slice(sub) -> None:
 
 
 def _run_slice(args) -> int:
-    from .io import load
-    from .plan import PrintSettings, plan
+    from .mesh.io import load
+    from .toolpath.planner import PrintSettings, plan
     if not 0 <= args.infill <= 100:
         raise UsageError("--infill is a percentage between 0 and 100")
     for name in ("perimeters", "top_layers", "bottom_layers"):

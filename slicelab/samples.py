@@ -8,8 +8,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from .check import signed_volume
-from .mesh import Mesh
+from .mesh.core import Mesh
+from .mesh.validation import signed_volume
 
 __all__ = ["random_motion", "box", "revolve", "torus", "sphere", "pot", "pot_profile", "pot_dimensions",
            "ring_prism", "cube_with_hole", "nested_shells", "overlapping_cubes", "voxels",

@@ -3,8 +3,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from slicelab.loops import loop_hierarchy
-from slicelab.sections import Frame, Section
+from slicelab.geometry.polygons import loop_hierarchy
+from slicelab.geometry.planes import Frame
+from slicelab.slicing.sections import Section
 
 
 def section_of(loops) -> Section:

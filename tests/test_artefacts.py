@@ -9,10 +9,10 @@ from scipy.spatial import cKDTree
 
 import slicelab
 from slicelab import Mesh, samples
-from slicelab.artefacts import align, clip_ring, pappus_volume, profile, rotation_to_z
-from slicelab.check import check
+from slicelab.artefacts.profiles import align, clip_ring, pappus_volume, profile, rotation_to_z
+from slicelab.mesh.validation import check
 from slicelab.cli import main
-from slicelab.topology import weld
+from slicelab.geometry.topology import weld
 
 from conftest import random_rotation
 
@@ -204,7 +204,7 @@ def test_clip_ring_keeps_area_on_one_side():
     u = np.array([[-2, 0], [2, 0], [2, 1], [-1, 1], [-1, 3], [-2, 3]], float)  # an L across the axis
     right = clip_ring(u)
     left = clip_ring(u, keep_below=True)
-    from slicelab.loops import signed_area
+    from slicelab.geometry.polygons import signed_area
     assert signed_area(right) + signed_area(left) == pytest.approx(signed_area(u), rel=1e-12)
     assert signed_area(right) == pytest.approx(2.0) and (right[:, 0] >= 0).all()
 
@@ -244,7 +244,7 @@ def test_svg_drawing_has_its_layers_at_true_scale(pot, tmp_path):
 
 def test_png_is_drawn_at_the_requested_scale(pot, tmp_path):
     import matplotlib.image as mpimg
-    from slicelab.profile_drawing import layout
+    from slicelab.artefacts.drawing import layout
     p = profile(pot, planes=2, align=False)
     p.to_png(tmp_path / "p.png", dpi=60)
     img = mpimg.imread(tmp_path / "p.png")

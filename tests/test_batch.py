@@ -11,7 +11,7 @@ import pytest
 
 import slicelab
 from slicelab import Mesh, samples
-from slicelab.batch import find_stl_files, run_batch, task_parameters
+from slicelab.tasks.batch import find_stl_files, run_batch, task_parameters
 from slicelab.cli import main
 
 EXPECTED = {  # file -> (status, reason codes) for the profile task
@@ -172,7 +172,7 @@ def test_dead_workers_still_leave_a_report_each(tmp_path):
     for k in range(3):
         slicelab.save(samples.box((0, 0, 0), (10 + k, 10, 10)), scans / f"box{k}.stl")
     script = tmp_path / "unguarded.py"
-    script.write_text("from slicelab.batch import run_batch\n"
+    script.write_text("from slicelab.tasks import run_batch\n"
                       f"run_batch({str(scans)!r}, {str(out)!r}, 'inspect', workers=2, progress=False)\n")
     proc = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=300)
     assert proc.returncode == 0, proc.stderr[-2000:]
@@ -203,15 +203,6 @@ def test_split_task(folder, tmp_path):
         pytest.approx(_origin_volume(whole.triangles), rel=1e-5)
     assert rep["results"]["section_loops"] == 2 and rep["results"]["cut_facets"] > 0
     ET.parse(out / rep["outputs"]["svg"])
-
-
-def test_split_task_reports_a_missing_split_module(folder, tmp_path, monkeypatch):
-    monkeypatch.setitem(sys.modules, "slicelab.split", None)  # as if split.py were not there
-    result = run_batch(folder, tmp_path / "out", "split", task_parameters("split"), workers=1, progress=False)
-    rep = next(r for r in result.reports if r["file"] == "pot.stl")
-    assert rep["status"] == "fail" and rep["reasons"][-1]["code"] == "task_unavailable"
-    assert "slicelab.split" in rep["reasons"][-1]["message"]
-    assert len(result.reports) == len(EXPECTED)
 
 
 def test_layers_task(folder, tmp_path):

@@ -4,7 +4,7 @@ import pytest
 
 import slicelab
 from slicelab import Mesh, check
-from slicelab import topology
+from slicelab.geometry import topology
 from slicelab.samples import box, cube_with_hole, nested_shells, overlapping_cubes, sphere, torus
 
 

@@ -12,8 +12,8 @@ from hypothesis import strategies as st
 
 import slicelab
 from slicelab import Mesh, check, samples
-from slicelab.cut import Cut, CutWarning, cut, triangle_min_angles, watertight_edges
-from slicelab.split import split
+from slicelab.slicing.cut import Cut, CutWarning, cut, triangle_min_angles, watertight_edges
+from slicelab.slicing.split import split
 
 from conftest import ROOT, random_rotation
 
@@ -174,7 +174,7 @@ def test_random_planes_and_rotations(seed, which, t, axis_aligned):
 
 def test_volumes_agree_with_manifold3d():
     mf = pytest.importorskip("manifold3d")
-    from slicelab.topology import weld
+    from slicelab.geometry.topology import weld
     rng = np.random.default_rng(7)
     for mesh in (samples.torus(30, 10, 48, 24), samples.pot(20, 32), samples.cube_with_hole(20, 5, 32)):
         v, f = weld(mesh.triangles)
@@ -208,7 +208,7 @@ def test_cap_is_constrained_delaunay_no_worse_than_ear_clipping():
         ear = triangle_min_angles(verts, tri).min()
         # Every section point is used (no T-junction): n points in p polygons with h holes
         # make n + 2 h - 2 p triangles.
-        from slicelab.loops import signed_area
+        from slicelab.geometry.polygons import signed_area
         areas = np.array([signed_area(p2[r]) for r in rings])
         n_outer, n_holes = int((areas > 0).sum()), int((areas < 0).sum())
         assert len(cap.triangles) == len(verts) + 2 * n_holes - 2 * n_outer

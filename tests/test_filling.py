@@ -3,10 +3,10 @@ import numpy as np
 import pytest
 
 import slicelab
-from slicelab.filling import fill_lines, rectilinear
-from slicelab.loops import Polygon
-from slicelab.paths import _covered, coverage_map, layer_paths
-from slicelab.raster import GridMask
+from slicelab.toolpath.infill import fill_lines, rectilinear
+from slicelab.geometry.polygons import Polygon
+from slicelab.toolpath.paths import _covered, coverage_map, layer_paths
+from slicelab.toolpath.raster import GridMask
 from slicelab.samples import nested_shells
 from layer_shapes import SHAPES, circle, rect, rotation, section_of
 

@@ -9,7 +9,7 @@ import pytest
 
 import slicelab
 from slicelab import Mesh, MeshFileError, load, save
-from slicelab.io import atomic_path
+from slicelab.mesh.io import atomic_path
 from slicelab.samples import box, torus
 
 TRI = np.array([[[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 0, 0], [0, 1, 0], [0, 0, 1]]], float)

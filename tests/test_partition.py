@@ -10,8 +10,8 @@ import pytest
 
 import slicelab
 from slicelab import Mesh, check, samples
-from slicelab.cut import watertight_edges
-from slicelab.partition import fit_rotation, partition, stair_cut
+from slicelab.slicing.cut import watertight_edges
+from slicelab.slicing.partition import fit_rotation, partition, stair_cut
 
 from conftest import ROOT
 
@@ -34,7 +34,7 @@ def assert_fits(piece: Mesh, volume, turn: float) -> None:
 
 def solid_of(mesh: Mesh):
     mf = pytest.importorskip("manifold3d")
-    from slicelab.topology import weld
+    from slicelab.geometry.topology import weld
     v, f = weld(mesh.triangles)
     return mf.Manifold(mf.Mesh64(vert_properties=v, tri_verts=f.astype(np.uint64)))
 

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import slicelab
-from slicelab.plan import PrintSettings, layer_bounds, plan
+from slicelab.toolpath.planner import PrintSettings, layer_bounds, plan
 from slicelab.samples import cube_with_hole, voxels
 
 shapely = pytest.importorskip("shapely")

@@ -4,7 +4,7 @@ import pytest
 from matplotlib.path import Path as MplPath
 
 import slicelab
-from slicelab.raster import GridMask, raster_hierarchy, rasterize
+from slicelab.toolpath.raster import GridMask, raster_hierarchy, rasterize
 from slicelab.samples import box, concat, nested_shells
 from layer_shapes import SHAPES, circle, rect, section_of, star
 

@@ -8,10 +8,11 @@ from hypothesis import strategies as st
 
 import slicelab
 from slicelab import Mesh, section, slice_layers
-from slicelab.loops import signed_area
+from slicelab.geometry.polygons import signed_area
 from slicelab.samples import box, cube_with_hole, nested_shells, pot, sphere, staircase, torus
-from slicelab.sections import Frame, layer_heights
-from slicelab.topology import weld
+from slicelab.geometry.planes import Frame
+from slicelab.slicing.sections import layer_heights
+from slicelab.geometry.topology import weld
 
 from conftest import random_rotation
 

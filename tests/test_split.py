@@ -17,9 +17,9 @@ from hypothesis import strategies as st
 import slicelab
 from slicelab import Mesh
 from slicelab.samples import box, pot, staircase, torus
-from slicelab.sections import Frame, plane_distances
-from slicelab.split import PATTERNS, Split, classify, corner_distances, split, split_facets
-from slicelab.topology import weld
+from slicelab.geometry.planes import Frame, plane_distances
+from slicelab.slicing.split import PATTERNS, Split, classify, corner_distances, split, split_facets
+from slicelab.geometry.topology import weld
 
 TORUS = torus(30.0, 10.0, 24, 12)
 POT = pot(12, 24)
@@ -229,8 +229,10 @@ def test_pieces_mesh_is_a_whole_mesh():
     assert repr(s.front).startswith(f"Mesh({len(s.front)} facets")
 
 
-def test_split_is_callable_even_when_its_module_was_imported_first():
-    code = ("from slicelab.split import classify\nimport slicelab\nfrom slicelab.samples import box\n"
+def test_split_is_a_function_and_its_module_a_module_whatever_is_imported_first():
+    code = ("import slicelab.slicing.split as m\nimport types\nassert isinstance(m, types.ModuleType)\n"
+            "from slicelab.slicing.split import classify\nimport slicelab\nfrom slicelab.samples import box\n"
+            "assert slicelab.split is m.split\n"
             "print(slicelab.split(box(), (0, 0, 0.5), (0, 0, 1)).n_cut)")
     r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr

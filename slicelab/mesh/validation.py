@@ -10,8 +10,9 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from .mesh import Mesh, edge_cross
-from .topology import edge_table, exact_ids, shells
+from ..geometry.topology import edge_table, exact_ids, shells
+from ..geometry.triangles import edge_cross
+from .core import Mesh
 
 __all__ = ["MeshReport", "check", "signed_volume"]
 

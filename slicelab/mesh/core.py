@@ -10,61 +10,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["Mesh", "winding_normals", "edge_cross"]
+from ..geometry.triangles import winding_normals
 
-_BLOCK = 1 << 14
-
-
-def edge_cross(t: np.ndarray) -> np.ndarray:
-    """``(v1 - v0) x (v2 - v0)`` of each triangle, (n, 3): twice the area along the normal.
-
-    Written out by component, which is several times faster than ``np.cross``
-    on millions of rows.
-
-    Examples
-    --------
-    >>> edge_cross(np.array([[[0, 0, 0], [2, 0, 0], [0, 3, 0]]], float)).tolist()
-    [[0.0, 0.0, 6.0]]
-    """
-    ax, ay, az = (t[:, 1, k] - t[:, 0, k] for k in range(3))
-    bx, by, bz = (t[:, 2, k] - t[:, 0, k] for k in range(3))
-    out = np.empty((len(t), 3))
-    np.subtract(ay * bz, az * by, out=out[:, 0])
-    np.subtract(az * bx, ax * bz, out=out[:, 1])
-    np.subtract(ax * by, ay * bx, out=out[:, 2])
-    return out
-
-
-def winding_normals(triangles: np.ndarray) -> np.ndarray:
-    """Unit normals of triangles from their vertex order (right-hand rule).
-
-    Parameters
-    ----------
-    triangles : (n, 3, 3) array_like
-        Triangle corners in winding order.
-
-    Returns
-    -------
-    (n, 3) ndarray
-        ``(v1 - v0) x (v2 - v0)`` scaled to unit length; zero rows for
-        degenerate (zero-area) triangles.
-
-    Examples
-    --------
-    >>> winding_normals([[[0, 0, 0], [1, 0, 0], [0, 1, 0]]])
-    array([[0., 0., 1.]])
-    """
-    t = np.asarray(triangles, dtype=np.float64).reshape(-1, 3, 3)
-    out = np.empty((len(t), 3))
-    for s in range(0, len(t), _BLOCK):  # blocks of facets keep the temporaries in cache
-        n = edge_cross(t[s:s + _BLOCK])
-        length = np.sqrt(np.einsum("ij,ij->i", n, n))
-        # Degenerate facets keep a zero normal rather than NaN, as seed 002 does.
-        np.divide(n, length[:, None], out=n, where=length[:, None] > 0)
-        n[length == 0] = 0.0
-        out[s:s + _BLOCK] = n
-    return out
-
+__all__ = ["Mesh"]
 
 @dataclass(frozen=True, eq=False)
 class Mesh:

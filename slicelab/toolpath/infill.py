@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .loops import Polygon
+from ..geometry.polygons import Polygon
 
 __all__ = ["FillLines", "fill_lines", "rectilinear", "line_spacing"]
 

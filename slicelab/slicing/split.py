@@ -24,9 +24,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .mesh import Mesh
-from .sections import (_NEXT, Frame, Section, crossing_edges, edge_points, plane_distances,
-                       section_from_distances)
+from ..geometry.planes import NEXT_CORNER as _NEXT
+from ..geometry.planes import Frame, crossing_edges, edge_points, plane_distances
+from ..mesh.core import Mesh
+from .sections import Section, section_from_distances
 
 __all__ = ["Split", "split", "split_facets", "classify", "corner_distances", "PATTERNS"]
 

@@ -16,8 +16,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .filling import line_spacing, rectilinear
-from .loops import signed_area
+from ..geometry.polygons import signed_area
+from .infill import line_spacing, rectilinear
 from .perimeters import Perimeters, _draw, layer_perimeters
 from .raster import GridMask, LayerRaster, rasterize
 

@@ -21,7 +21,7 @@ How the axis is found
 3. Refinement: horizontal sections in the frame of the current axis are fitted
    with concentric circles (one shared centre per height, a radius per wall);
    a straight line through the centres is the new axis; repeat. Outer walls
-   run counter-clockwise and inner walls clockwise (`slicelab.sections`), which
+   run counter-clockwise and inner walls clockwise (`slicelab.slicing.sections`), which
    tells the walls apart without any tolerance.
 The candidate with the smaller circle residual wins. The rim goes up: the end
 where surface crosses the axis (the base) goes down; failing that, the open
@@ -34,9 +34,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .loops import signed_area
-from .mesh import Mesh
-from .sections import section, slice_layers
+from ..geometry.polygons import signed_area
+from ..mesh.core import Mesh
+from ..slicing.sections import section, slice_layers
 
 __all__ = ["Alignment", "align", "rotation_to_z", "HalfProfile", "Measurements", "Profile", "profile",
            "half_profiles", "pappus_volume", "clip_ring"]
@@ -321,7 +321,7 @@ def _up_sign(t: np.ndarray, area: np.ndarray, point: np.ndarray, direction: np.n
         m = float((area[near] * h[near]).sum() / area[near].sum())
         if abs(m - mid) > 0.1 * length:
             return (1 if m < mid else -1), "base"
-    from .topology import edge_table, weld
+    from ..geometry.topology import edge_table, weld
     _, faces = weld(mesh.triangles)
     et = edge_table(faces)
     open_edges = np.flatnonzero(et["counts"] == 1)
@@ -335,7 +335,7 @@ def _up_sign(t: np.ndarray, area: np.ndarray, point: np.ndarray, direction: np.n
         if abs(m - mid) > 0.1 * length:
             return (1 if m > mid else -1), "open boundary"
     # The centre of mass of the enclosed volume (or of the surface, if open) sits low.
-    from .check import signed_volume
+    from ..mesh.validation import signed_volume
     vol = signed_volume(mesh.triangles)
     if vol > 0:
         tt = mesh.triangles - point
@@ -876,7 +876,7 @@ class Profile:
 
     def svg(self, *, side: str = "left", spread: bool = False, label: str | None = None) -> str:
         """The profile drawing as SVG text, 1:1 in mm (see `to_svg`)."""
-        from .profile_drawing import profile_svg
+        from .drawing import profile_svg
         return profile_svg(self, side=side, spread=spread, label=label)
 
     def to_svg(self, path, **kwargs) -> None:
@@ -904,7 +904,7 @@ class Profile:
         >>> p = profile(pot(20, 24), planes=2)
         >>> p.to_svg(os.path.join(tempfile.mkdtemp(), "pot.svg"), side="right")
         """
-        from .io import atomic_open
+        from ..export.files import atomic_open
         text = self.svg(**kwargs)
         with atomic_open(path, "w", encoding="utf-8") as fh:
             fh.write(text)
@@ -918,7 +918,7 @@ class Profile:
         >>> from slicelab.samples import pot
         >>> profile(pot(20, 24), planes=2).to_png(os.path.join(tempfile.mkdtemp(), "pot.png"), dpi=50)
         """
-        from .profile_drawing import profile_png
+        from .drawing import profile_png
         profile_png(self, path, dpi=dpi, **kwargs)
 
 

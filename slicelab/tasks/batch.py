@@ -28,8 +28,9 @@ from pathlib import Path
 
 import numpy as np
 
-from . import __version__
-from .io import MeshFileError, atomic_open
+from .. import __version__
+from ..export.files import atomic_open
+from ..mesh.io import MeshFileError
 
 __all__ = ["TASKS", "BatchResult", "task_parameters", "find_stl_files", "process_file", "run_batch",
            "write_summary"]
@@ -210,7 +211,7 @@ def _task_inspect(mesh, report, stem, out, params):
 
 
 def _task_section(mesh, report, stem, out, params):
-    from .sections import section
+    from ..slicing.sections import section
     origin, normal = _plane(mesh, params)
     s = section(mesh, origin, normal, max_gap=params["max_gap"])
     svg = stem.with_name(stem.name + ".section.svg")
@@ -225,17 +226,9 @@ def _task_section(mesh, report, stem, out, params):
     return {"svg": _rel(out, svg)}, results, reasons
 
 
-def _import_split():
-    try:
-        from .split import split
-    except ImportError as exc:
-        raise TaskUnavailable(f"the split task needs slicelab.split, which is not available ({exc})") from None
-    return split
-
-
 def _task_split(mesh, report, stem, out, params):
-    from .io import save
-    split = _import_split()
+    from ..mesh.io import save
+    from ..slicing.split import split
     origin, normal = _plane(mesh, params)
     sp = split(mesh, origin, normal, max_gap=params["max_gap"])
     outputs = {}
@@ -256,7 +249,7 @@ def _task_split(mesh, report, stem, out, params):
 
 
 def _task_profile(mesh, report, stem, out, params):
-    from .artefacts import profile
+    from ..artefacts.profiles import profile
     p = profile(mesh, planes=params["planes"], max_gap=params["max_gap"], name=stem.name)
     svg = stem.with_name(stem.name + ".profile.svg")
     p.to_svg(svg, side=params["side"])
@@ -282,7 +275,7 @@ def _task_profile(mesh, report, stem, out, params):
 
 
 def _task_layers(mesh, report, stem, out, params):
-    from .sections import slice_layers
+    from ..slicing.sections import slice_layers
     layers = slice_layers(mesh, params["layer_height"], max_gap=params["max_gap"])
     path = stem.with_name(stem.name + ".layers.json")
     with atomic_open(path, "w", encoding="utf-8") as fh:
@@ -328,8 +321,8 @@ def process_file(path, root, out, task: str, params: dict) -> dict:
     >>> r["status"], r["reasons"][0]["code"]
     ('fail', 'unreadable')
     """
-    from .check import check
-    from .io import load
+    from ..mesh.io import load
+    from ..mesh.validation import check
     t_start = time.perf_counter()
     path, root, out = Path(path), Path(root), Path(out)
     rel = path.relative_to(root).as_posix()
@@ -486,8 +479,8 @@ class BatchResult:
                 f"{self.ignored} other files ignored) in {self.seconds:.1f} s")
 
 
-_PRELOAD = ["slicelab.batch", "slicelab.artefacts", "slicelab.profile_drawing", "slicelab.check",
-            "slicelab.sections", "scipy.spatial", "matplotlib.figure", "matplotlib.backends.backend_agg"]
+_PRELOAD = ["slicelab.tasks.batch", "slicelab.artefacts.profiles", "slicelab.artefacts.drawing",
+            "slicelab.mesh.validation", "slicelab.slicing.sections", "scipy.spatial", "matplotlib.figure", "matplotlib.backends.backend_agg"]
 
 
 def _pool_context():

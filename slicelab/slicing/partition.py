@@ -2,7 +2,7 @@
 
 Seed 001 cuts big STL solids so that the pieces can be built apart and glued,
 and leaves as future work stair-shaped cut faces that widen the glue area.
-`partition` cuts recursively (with `slicelab.cut.cut` for flat joints) until
+`partition` cuts recursively (with `slicelab.cut` for flat joints) until
 every piece fits the build volume; `stair_cut` builds the stair joint.
 
 A stair joint is a terrace: bands of height ``h`` along a step axis ``b``
@@ -34,13 +34,13 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .check import signed_volume
+from ..geometry.chains import chain_segments
+from ..geometry.planes import NEXT_CORNER, Frame
+from ..geometry.topology import exact_ids
+from ..mesh.core import Mesh
+from ..mesh.validation import signed_volume
 from .cut import Cap, cap_segments, cut, plane_edges, watertight_edges
-from .loops import chain_segments
-from .sections import _NEXT
-from .topology import exact_ids
-from .mesh import Mesh
-from .sections import Frame, section
+from .sections import section
 from .split import split_facets
 
 __all__ = ["Joint", "Piece", "PartitionReport", "Partition", "partition", "stair_cut", "StairCut",
@@ -299,14 +299,14 @@ def _refine_along(side: np.ndarray, slab: np.ndarray, axis: int, value: float) -
     its corner off the plane over them, so no other facet changes.
     """
     on_s = side[..., axis] == value
-    rows, i = np.nonzero(on_s & on_s[:, _NEXT])
+    rows, i = np.nonzero(on_s & on_s[:, NEXT_CORNER])
     if len(rows) == 0:
         return side
     on_m = slab[..., axis] == value
     flat_piece = on_m.all(axis=1)  # the slab's own cap, lying in the plane
-    mr, mi = np.nonzero(on_m & on_m[:, _NEXT] & ~flat_piece[:, None])
-    u3, v3 = slab[mr, mi], slab[mr, _NEXT[mi]]
-    p3, r3 = side[rows, i], side[rows, _NEXT[i]]  # side edge p -> r; the slab walks r -> .. -> p
+    mr, mi = np.nonzero(on_m & on_m[:, NEXT_CORNER] & ~flat_piece[:, None])
+    u3, v3 = slab[mr, mi], slab[mr, NEXT_CORNER[mi]]
+    p3, r3 = side[rows, i], side[rows, NEXT_CORNER[i]]  # side edge p -> r; the slab walks r -> .. -> p
     ids, first = exact_ids(np.concatenate([u3, v3, p3, r3]))
     pts = np.concatenate([u3, v3, p3, r3])[first]
     m, k = len(u3), len(p3)
@@ -341,8 +341,8 @@ def _refine_along(side: np.ndarray, slab: np.ndarray, axis: int, value: float) -
     head_edge = j == 0
     a3[head_edge] = side[rows[fan[head_edge]], i[fan[head_edge]]]  # p itself, bit for bit
     last = j == n_edges[fan] - 1
-    b3[last] = side[rows[fan[last]], _NEXT[i[fan[last]]]]           # r itself
-    o3 = side[rows[fan], _NEXT[_NEXT[i[fan]]]]
+    b3[last] = side[rows[fan[last]], NEXT_CORNER[i[fan[last]]]]           # r itself
+    o3 = side[rows[fan], NEXT_CORNER[NEXT_CORNER[i[fan]]]]
     keep = np.ones(len(side), bool)
     keep[rows] = False
     return np.concatenate([side[keep], np.stack([a3, b3, o3], axis=1)])
@@ -661,7 +661,7 @@ def _counts(e: np.ndarray, V: np.ndarray, margin: float) -> np.ndarray:
 
 def _components(t: np.ndarray) -> tuple[int, np.ndarray]:
     """Facets grouped into edge-connected shells: (count, label of each facet)."""
-    from .topology import shells, weld
+    from ..geometry.topology import shells, weld
     if len(t) == 0:
         return 0, np.zeros(0, np.int64)
     return shells(weld(t)[1])
@@ -935,13 +935,14 @@ def save_exploded_png(pieces, path, *, title: str | None = None, dpi: int = 120,
     --------
     >>> import tempfile, os
     >>> from slicelab.samples import box
-    >>> from slicelab.cut import cut
+    >>> from slicelab import cut
     >>> save_exploded_png(cut(box(), (0, 0, 0.5), (0, 0, 1)), os.path.join(tempfile.mkdtemp(), "p.png"))
     """
     import matplotlib
     matplotlib.use("Agg", force=False)
     import matplotlib.pyplot as plt
-    from .io import atomic_path
+
+    from ..mesh.io import atomic_path
     fig, ax = plt.subplots(figsize=(7, 6))
     plot_exploded(pieces, ax, **kwargs)
     if title:

@@ -6,18 +6,16 @@ every failure into one `MeshFileError` that names the file and the reason.
 """
 from __future__ import annotations
 
-import contextlib
 import io
-import os
 import re
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
-from .mesh import Mesh
+from ..export.files import atomic_path
+from .core import Mesh
 
-__all__ = ["MeshFileError", "load", "save", "atomic_path", "atomic_open"]
+__all__ = ["MeshFileError", "load", "save"]
 
 _HEADER = 80
 _RECORD = 50  # 12 float32 + uint16 attribute
@@ -178,55 +176,6 @@ def _finish(p: Path, triangles, normals) -> Mesh:
     if not np.isfinite(n).all():
         n = np.where(np.isfinite(n), n, 0.0)  # a bad stored normal is a defect to report, not a refusal
     return Mesh(t, n)
-
-
-@contextlib.contextmanager
-def atomic_path(path):
-    """Yield a temporary path beside `path`; rename it over `path` on success.
-
-    A reader never sees a half-written file, and a failure leaves no file.
-
-    Examples
-    --------
-    >>> import tempfile, os
-    >>> d = tempfile.mkdtemp()
-    >>> with atomic_path(os.path.join(d, "x.txt")) as tmp:
-    ...     _ = open(tmp, "w").write("whole")
-    >>> open(os.path.join(d, "x.txt")).read()
-    'whole'
-    """
-    target = Path(path)
-    target.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".part", dir=target.parent)
-    os.close(fd)
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; give the file ordinary permissions
-    try:
-        yield Path(tmp)
-        os.replace(tmp, target)
-    except BaseException:
-        with contextlib.suppress(OSError):
-            os.unlink(tmp)
-        raise
-
-
-@contextlib.contextmanager
-def atomic_open(path, mode: str = "w", **kwargs):
-    """Open a temporary file beside `path` and rename it over `path` when closed cleanly.
-
-    Examples
-    --------
-    >>> import tempfile, os
-    >>> target = os.path.join(tempfile.mkdtemp(), "y.txt")
-    >>> with atomic_open(target) as fh:
-    ...     _ = fh.write("ok")
-    >>> open(target).read()
-    'ok'
-    """
-    with atomic_path(path) as tmp:
-        with open(tmp, mode, **kwargs) as fh:
-            yield fh
 
 
 def save(mesh: Mesh, path, ascii: bool = False) -> None:

@@ -5,7 +5,7 @@ split the facets along the plane, find the edges in the plane that really
 bound the cut, fill the cut face with a constrained Delaunay triangulation
 that respects holes and concave outlines, for any plane. Here:
 
-* The facets are split by `slicelab.split.split_facets` (the paper's
+* The facets are split by `slicelab.slicing.split_facets` (the paper's
   re-splitting of triangles), so the rear part keeps everything behind the
   plane and the front part everything at or in front of it.
 * The cap of each part is the section of the material *just on its side* of
@@ -32,16 +32,12 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .loops import chain_segments, loop_hierarchy, signed_area
-from .mesh import Mesh
-from .sections import _NEXT, Frame, plane_distances
-from .split import split_facets
-from .topology import exact_ids
-
-try:  # the split's distances (rounding noise snapped to zero): cut exactly where split() would
-    from .split import corner_distances as _split_distances
-except ImportError:  # pragma: no cover - an older split.py
-    _split_distances = plane_distances
+from ..geometry.chains import chain_segments
+from ..geometry.planes import NEXT_CORNER, Frame
+from ..geometry.polygons import loop_hierarchy, signed_area
+from ..geometry.topology import exact_ids
+from ..mesh.core import Mesh
+from .split import corner_distances, split_facets
 
 __all__ = ["Cap", "Cut", "CutReport", "CutWarning", "cut", "plane_edges", "cap_segments",
            "triangle_min_angles", "watertight_edges"]
@@ -202,7 +198,7 @@ def plane_edges(pieces: np.ndarray, corners: np.ndarray, corner_dist: np.ndarray
 
     Examples
     --------
-    >>> from slicelab.split import split_facets
+    >>> from slicelab.slicing import split_facets
     >>> from slicelab.samples import box
     >>> t = box().triangles
     >>> d = t[..., 2] - 0.5
@@ -219,10 +215,10 @@ def plane_edges(pieces: np.ndarray, corners: np.ndarray, corner_dist: np.ndarray
     away = np.any(same & strict[:, None, :], axis=2)  # a corner of the input on this side, off the plane
     vid, _ = exact_ids(pieces.reshape(-1, 3))
     vid = vid.reshape(k, 3)
-    a, b = vid.reshape(-1), vid[:, _NEXT].reshape(-1)
-    keep = _cancel_pairs(a, b) & ~(away.reshape(-1) | away[:, _NEXT].reshape(-1)) & (a != b)
+    a, b = vid.reshape(-1), vid[:, NEXT_CORNER].reshape(-1)
+    keep = _cancel_pairs(a, b) & ~(away.reshape(-1) | away[:, NEXT_CORNER].reshape(-1)) & (a != b)
     rows, i = np.divmod(np.flatnonzero(keep), 3)
-    return pieces[rows, _NEXT[i]], pieces[rows, i]
+    return pieces[rows, NEXT_CORNER[i]], pieces[rows, i]
 
 
 # ------------------------------------------------------------------ capping
@@ -470,7 +466,7 @@ def cut(mesh: Mesh, origin, normal) -> Cut:
     """
     frame = Frame.from_plane(origin, normal)
     t = mesh.triangles
-    dist = _split_distances(frame, t)
+    dist = corner_distances(frame, t)
     front, rear, front_src, rear_src, n_cut = split_facets(t, dist, frame)
     in_plane = ~np.any(dist != 0, axis=1)
     n_in_plane = int(np.count_nonzero(in_plane))
@@ -543,7 +539,7 @@ def watertight_edges(triangles: np.ndarray) -> dict:
     >>> watertight_edges(box().triangles)["closed"]
     True
     """
-    from .topology import edge_table, weld
+    from ..geometry.topology import edge_table, weld
     t = np.asarray(triangles, dtype=np.float64).reshape(-1, 3, 3)
     if len(t) == 0:
         return {"open": 0, "nonmanifold": 0, "misoriented": 0, "closed": False}

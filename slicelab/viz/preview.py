@@ -48,7 +48,7 @@ def render_depth(triangles, normals, frame, extent, shape, *, block: int = 4_000
     Examples
     --------
     >>> from slicelab.samples import box
-    >>> from slicelab.sections import Frame
+    >>> from slicelab.geometry import Frame
     >>> m = box((0, 0, 0), (1, 1, 1))
     >>> img = render_depth(m.triangles, m.normals, Frame.from_plane((0, 0, 0), (0, 0, 1)),
     ...                    (-1, 2, -1, 2), (30, 30))
@@ -225,9 +225,11 @@ def save_split_preview(split, path, *, pixels: int = 700, dpi: int = 100) -> Non
     >>> open(out, "rb").read(4)
     b'\\x89PNG'
     """
-    from matplotlib.figure import Figure  # no pyplot: works under any backend, leaves no figure open
+    from matplotlib.figure import (
+        Figure,  # no pyplot: works under any backend, leaves no figure open
+    )
 
-    from .io import atomic_path
+    from ..mesh.io import atomic_path
     fig = Figure(figsize=_figsize(_extent(split)), layout="constrained")
     draw_split(split, pixels=pixels, axes=fig.subplots(1, 2))
     with atomic_path(path) as tmp:

@@ -19,7 +19,7 @@ from dataclasses import asdict, dataclass, field, replace
 
 import numpy as np
 
-from .mesh import Mesh
+from ..mesh.core import Mesh
 
 __all__ = ["PrintSettings", "PrintPlan", "plan", "layer_bounds"]
 
@@ -181,17 +181,17 @@ class PrintPlan:
 
     def to_gcode(self, path) -> None:
         """Write Marlin-flavoured G-code (atomically)."""
-        from .gcode import write_gcode
+        from ..export.gcode import write_gcode
         write_gcode(self, path)
 
     def to_svg(self, directory) -> list:
         """One true-scale SVG per layer in `directory`; returns the paths written."""
-        from .gcode import write_svgs
+        from ..export.gcode import write_svgs
         return write_svgs(self, directory)
 
     def preview_png(self, path, layers=None, **kwargs) -> None:
         """A PNG of some layers' toolpaths (default: first, a quarter, middle, top)."""
-        from .gcode import preview_png
+        from ..export.gcode import preview_png
         preview_png(self, path, layers, **kwargs)
 
 
@@ -297,7 +297,8 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     {'solid'}
     """
     import time
-    from .sections import slice_layers
+
+    from ..slicing.sections import slice_layers
     s = settings or PrintSettings()
     t0 = time.perf_counter()
     if len(mesh) == 0:
@@ -392,7 +393,8 @@ def _warm_imports() -> None:
     import scipy.spatial  # noqa: F401
     from skimage.morphology import skeletonize  # noqa: F401  (skimage loads it lazily, on first use)
 
-    from . import filling, gcode, paths, perimeters, raster  # noqa: F401
+    from ..export import gcode  # noqa: F401
+    from . import infill, paths, perimeters, raster  # noqa: F401
 
 
 def _bar(total: int, progress: bool | None):

@@ -22,7 +22,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .loops import Polygon, build_polygons, loop_hierarchy, signed_area
+from ..geometry.polygons import Polygon, build_polygons, loop_hierarchy, signed_area
 from .raster import GridMask, LayerRaster, rasterize
 
 __all__ = ["SegmentIndex", "DistanceField", "distance_field", "level_rings", "level_polygons",
@@ -343,7 +343,7 @@ def march(values: np.ndarray, level: float) -> list[np.ndarray]:
     ``skimage.measure.find_contours(values, level, fully_connected="high",
     positive_orientation="low")`` (tests compare the two), but vectorised:
     every crossing edge gets an integer key and the segments are chained by
-    `slicelab.loops.chain_segments`, so no Python loop runs over pixels. It is
+    `slicelab.geometry.chain_segments`, so no Python loop runs over pixels. It is
     the per-layer hot path of whole-part planning. Contours that reach the
     array's border are not closed and are dropped.
 
@@ -355,7 +355,7 @@ def march(values: np.ndarray, level: float) -> list[np.ndarray]:
     """
     import cv2
 
-    from .loops import chain_segments
+    from ..geometry.chains import chain_segments
     v = np.asarray(values)
     if v.dtype not in (np.float32, np.float64):  # what cv2.compare takes
         v = v.astype(np.float64)

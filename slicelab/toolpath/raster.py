@@ -18,7 +18,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .loops import signed_area
+from ..geometry.polygons import signed_area
 
 __all__ = ["GridMask", "LayerRaster", "RasterContours", "rasterize", "winding_numbers",
            "raster_hierarchy", "RULES"]

@@ -36,7 +36,8 @@ def plot_raster(raster, hierarchy=None, ax=None, *, cmap="tab10"):
     3
     """
     import matplotlib.pyplot as plt
-    from .raster import raster_hierarchy
+
+    from ..toolpath.raster import raster_hierarchy
     ax = _axes(ax)
     for tile in raster.tiles:
         ax.imshow(tile.mask, origin="lower", extent=tile.extent, cmap="Greys", vmin=0, vmax=2,
@@ -146,7 +147,8 @@ def plot_coverage(paths, raster=None, ax=None, *, pixel_size: float | None = Non
     >>> ax = plot_coverage(slicelab.layer_paths(s, pixel_size=0.1), slicelab.rasterize(s, 0.1))
     """
     from matplotlib.colors import ListedColormap
-    from .paths import coverage_map
+
+    from ..toolpath.paths import coverage_map
     ax = _axes(ax)
     p = raster.pixel_size if raster is not None else (pixel_size or 0.05)
     counts, grid = coverage_map(paths, p)
@@ -180,7 +182,8 @@ def plan_3d(plan, layers=None, ax=None, *, lw: float = 0.5, elev: float = 25, az
     """
     import matplotlib.pyplot as plt
     from mpl_toolkits.mplot3d.art3d import Line3DCollection
-    from .gcode import _COLOURS, _role
+
+    from ..export.gcode import _COLOURS, _role
     if ax is None:
         fig = plt.figure(figsize=(7, 6))
         ax = fig.add_subplot(projection="3d")

@@ -1,0 +1,29 @@
+"""Writing results: safe files, G-code.
+
+==========================  =====================================================
+``export.files``            `atomic_path`, `atomic_open`: no half-written file
+``export.gcode``            G-code and per-layer SVG of a print plan
+==========================  =====================================================
+"""
+from __future__ import annotations
+
+import importlib
+
+# Submodule of each public name: they load on first use (matplotlib and the like are slow to import).
+_WHERE = {"atomic_path": "files", "atomic_open": "files", "write_gcode": "gcode", "gcode_lines": "gcode", "write_svgs": "gcode", "preview_png": "gcode", "ROLE_TYPES": "gcode"}
+
+
+__all__ = ["atomic_path", "atomic_open", "write_gcode", "gcode_lines", "write_svgs", "preview_png", "ROLE_TYPES"]
+
+
+def __getattr__(name):
+    module = _WHERE.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f".{module}", __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(__all__))

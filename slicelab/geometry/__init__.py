@@ -1,0 +1,25 @@
+"""Plain-array geometry kernels with public names, shared by every stage.
+
+==========================  =====================================================
+``geometry.planes``         a plane's 2-D `Frame`, exact signed distances, edge crossings
+``geometry.topology``       exact vertex ids, edge tables, shells
+``geometry.chains``         chaining keyed segments into loops, joining open chains
+``geometry.polygons``       signed area, point in ring, hole hierarchy, polygons
+``geometry.triangles``      edge cross products, winding normals, areas
+==========================  =====================================================
+"""
+from __future__ import annotations
+
+from .chains import Chains, chain_segments, join_open_chains
+from .planes import NEXT_CORNER, Frame, crossing_edges, edge_points, plane_distances
+from .polygons import (
+    Polygon,
+    build_polygons,
+    loop_hierarchy,
+    points_in_ring,
+    signed_area,
+)
+from .topology import edge_table, exact_ids, shells, weld
+from .triangles import edge_cross, triangle_areas, winding_normals
+
+__all__ = ["Frame", "NEXT_CORNER", "crossing_edges", "edge_points", "plane_distances", "exact_ids", "weld", "edge_table", "shells", "Chains", "chain_segments", "join_open_chains", "signed_area", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons", "edge_cross", "winding_normals", "triangle_areas"]

@@ -1,0 +1,15 @@
+"""Meshes: the `Mesh` container, STL reading and writing, and checking.
+
+==========================  =====================================================
+``mesh.core``               `Mesh`, the small immutable container
+``mesh.io``                 `load`, `save`, `MeshFileError`
+``mesh.validation``         `check` -> `MeshReport` (normals, open edges, shells, volume)
+==========================  =====================================================
+"""
+from __future__ import annotations
+
+from .core import Mesh
+from .io import MeshFileError, load, save
+from .validation import MeshReport, check, signed_volume
+
+__all__ = ["Mesh", "MeshFileError", "load", "save", "MeshReport", "check", "signed_volume"]
