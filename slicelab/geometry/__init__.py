@@ -6,6 +6,7 @@
 ``geometry.chains``         chaining keyed segments into loops, joining open chains
 ``geometry.polygons``       signed area, point in ring, hole hierarchy, polygons
 ``geometry.triangles``      edge cross products, winding normals, areas
+``geometry.ragged``         groups of varying length, expanded without a Python loop
 ==========================  =====================================================
 """
 from __future__ import annotations
@@ -22,4 +23,4 @@ from .polygons import (
 from .topology import edge_table, exact_ids, shells, weld
 from .triangles import edge_cross, triangle_areas, winding_normals
 
-__all__ = ["Frame", "NEXT_CORNER", "crossing_edges", "edge_points", "plane_distances", "exact_ids", "weld", "edge_table", "shells", "Chains", "chain_segments", "join_open_chains", "signed_area", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons", "edge_cross", "winding_normals", "triangle_areas"]
+__all__ = ["Frame", "NEXT_CORNER", "crossing_edges", "edge_points", "plane_distances", "exact_ids", "weld", "edge_table", "shells", "Chains", "chain_segments", "join_open_chains", "signed_area", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons", "edge_cross", "winding_normals", "triangle_areas", "group_starts", "within_group", "expand_ranges"]

@@ -26,6 +26,7 @@ from ..geometry.planes import (
     edge_points,
     plane_distances,
 )
+from ..geometry.ragged import expand_ranges
 from ..geometry.polygons import Polygon, build_polygons, loop_hierarchy, signed_area
 from ..geometry.topology import exact_ids
 from ..mesh.core import Mesh
@@ -346,10 +347,7 @@ def slice_layers(mesh: Mesh, layer_height: float | None = None, *, heights=None,
     planes, back = np.unique(z, return_inverse=True)
     lo = np.searchsorted(planes, zmin, side="right")  # first plane above each facet's lowest corner
     hi = np.searchsorted(planes, zmax, side="right")  # planes at or below its highest corner
-    count = hi - lo
-    facet = np.repeat(np.arange(len(t)), count)
-    first = np.repeat(lo - (np.cumsum(count) - count), count)
-    plane = first + np.arange(len(facet))
+    facet, plane = expand_ranges(lo, hi - lo)  # every (facet, plane) pair that may cross
     c3 = t[facet]
     dist = c3[..., 2] - planes[plane][:, None]
     seg, s_id, e_id, seg_plane = _cut(c3, c3[..., :2], dist, plane)

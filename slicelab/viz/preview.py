@@ -12,6 +12,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..geometry.ragged import within_group
+
 __all__ = ["render_depth", "draw_split", "save_split_preview"]
 
 _FACING = np.array([0.80, 0.80, 0.82])           # facets seen from outside: light grey
@@ -97,7 +99,7 @@ def render_depth(triangles, normals, frame, extent, shape, *, block: int = 4_000
             continue
         k = count[f]
         fid = np.repeat(f, k)
-        j = np.arange(len(fid)) - np.repeat(np.cumsum(k) - k, k)
+        j = within_group(k)
         px = c_lo[fid] + j % w[fid]
         py = r_lo[fid] + j // w[fid]
         # Edge functions: the pixel centre is inside when all three have the facet's orientation.
