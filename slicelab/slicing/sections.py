@@ -105,30 +105,25 @@ class Section:
         return shapely.MultiPolygon([shapely.Polygon(p.exterior, list(p.holes)) for p in self.polygons])
 
     def svg(self, *, margin: float = 2.0, stroke: float = 0.1, fill: str = "#4a6fa5") -> str:
-        """The section as SVG text at true scale (1 user unit = 1 mm)."""
+        """The section as SVG text at true scale (1 user unit = 1 mm).
+
+        See Also
+        --------
+        slicelab.export.SvgDrawing : the writer.
+        """
+        from ..export.svg import SvgDrawing
         lo, hi = self.bounds() if len(self.segments) else (np.zeros(2), np.ones(2))
-        lo, hi = lo - margin, hi + margin
-        w, h = hi - lo
-
-        def ring(p):  # SVG's y grows downwards: flip so the drawing reads like the plane
-            q = np.column_stack([p[:, 0] - lo[0], hi[1] - p[:, 1]])
-            return "M" + " L".join(f"{x:.6g},{y:.6g}" for x, y in q)
-
-        out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w:.6g}mm" height="{h:.6g}mm" '
-               f'viewBox="0 0 {w:.6g} {h:.6g}">',
-               f'<desc>slicelab section; plane {json.dumps(self.frame.to_dict())}; '
-               f'area {self.area:.9g} mm2</desc>',
-               f'<g id="material" fill="{fill}" fill-rule="evenodd" stroke="black" '
-               f'stroke-width="{stroke:g}">']
-        for p in self.polygons:
-            out.append(f'<path d="{" ".join(ring(r) + " Z" for r in (p.exterior, *p.holes))}"/>')
-        out.append("</g>")
+        svg = SvgDrawing((*(lo - margin), *(hi + margin)), digits=6,
+                         desc=f"slicelab section; plane {json.dumps(self.frame.to_dict())}; "
+                              f"area {self.area:.9g} mm2")
+        with svg.group("material", fill=fill, fill_rule="evenodd", stroke="black", stroke_width=stroke):
+            for p in self.polygons:
+                svg.path([p.exterior, *p.holes], closed=True)
         if self.open_chains:
-            out.append(f'<g id="open" fill="none" stroke="red" stroke-width="{2 * stroke:g}">')
-            out += [f'<path d="{ring(c)}"/>' for c in self.open_chains]
-            out.append("</g>")
-        out.append("</svg>")
-        return "\n".join(out) + "\n"
+            with svg.group("open", fill="none", stroke="red", stroke_width=2 * stroke):
+                for c in self.open_chains:
+                    svg.path([c])
+        return svg.to_string()
 
     def to_svg(self, path, **kwargs) -> None:
         """Write `svg` to a file, atomically.

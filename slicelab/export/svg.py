@@ -1,0 +1,126 @@
+"""One small SVG writer for every drawing: sections, profiles, toolpath layers.
+
+Drawings are at true scale: 1 user unit is 1 mm, and the page is the
+rectangle ``(x0, y0) .. (x1, y1)`` of the drawing's own plane with y up.
+SVG's y grows downwards, so the writer flips every coordinate it is given:
+callers pass plane coordinates and never think about it.
+
+Examples
+--------
+>>> import xml.etree.ElementTree as ET
+>>> svg = SvgDrawing((0, 0, 10, 5), title="a square")
+>>> with svg.group("material", fill="black"):
+...     svg.path([np.array([[1, 1], [3, 1], [3, 3], [1, 3]])], closed=True)
+>>> root = ET.fromstring(svg.to_string())
+>>> root.get("width"), root.find("{http://www.w3.org/2000/svg}g/{http://www.w3.org/2000/svg}path").get("d")
+('10mm', 'M1,4 L3,4 L3,2 L1,2 Z')
+"""
+from __future__ import annotations
+
+import contextlib
+from xml.sax.saxutils import escape, quoteattr
+
+import numpy as np
+
+__all__ = ["SvgDrawing"]
+
+
+def _attrs(attrs: dict) -> str:
+    # Python names for SVG attributes: stroke_width -> stroke-width; None leaves one out.
+    return "".join(f" {k.rstrip('_').replace('_', '-')}={quoteattr(_num(v) if not isinstance(v, str) else v)}"
+                   for k, v in attrs.items() if v is not None)
+
+
+def _num(v) -> str:
+    return f"{float(v):.6g}"
+
+
+class SvgDrawing:
+    """An SVG document built element by element, in millimetres, y up.
+
+    Parameters
+    ----------
+    page : (x0, y0, x1, y1)
+        The drawing's extent in its own coordinates (mm).
+    title, desc : str, optional
+        The document's ``<title>`` and ``<desc>`` (escaped here).
+    digits : int, default 4
+        Decimals written for coordinates (4 is 0.1 micrometre).
+
+    See Also
+    --------
+    slicelab.slicing.Section.svg, slicelab.artefacts.profile_svg, slicelab.export.write_svgs
+    """
+
+    def __init__(self, page, *, title: str | None = None, desc: str | None = None, digits: int = 4):
+        self.x0, self.y0, self.x1, self.y1 = (float(v) for v in page)
+        self.digits = digits
+        w, h = self.x1 - self.x0, self.y1 - self.y0
+        self._out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{_num(w)}mm" height="{_num(h)}mm" '
+                     f'viewBox="0 0 {_num(w)} {_num(h)}">']
+        if title is not None:
+            self._out.append(f"<title>{escape(title)}</title>")
+        if desc is not None:
+            self._out.append(f"<desc>{escape(desc)}</desc>")
+
+    # ------------------------------------------------------------ coordinates
+    def _xy(self, points) -> np.ndarray:
+        p = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+        return np.column_stack([p[:, 0] - self.x0, self.y1 - p[:, 1]])
+
+    def _fmt(self, q: np.ndarray) -> list[str]:
+        r = np.round(q, self.digits) + 0.0  # + 0.0: no "-0"
+        return [f"{x:.{self.digits}f}".rstrip("0").rstrip(".") + "," + f"{y:.{self.digits}f}".rstrip("0").rstrip(".")
+                for x, y in r]
+
+    def path_data(self, polylines, *, closed: bool = False) -> str:
+        """SVG path data of polylines (``M .. L .. [Z]`` for each)."""
+        parts = []
+        for p in polylines:
+            pts = self._fmt(self._xy(p))
+            if pts:
+                parts.append("M" + " L".join(pts) + (" Z" if closed else ""))
+        return " ".join(parts)
+
+    # ---------------------------------------------------------------- elements
+    @contextlib.contextmanager
+    def group(self, id: str | None = None, **attrs):
+        """A ``<g>`` around what is drawn inside the ``with`` block."""
+        self._out.append(f"<g{_attrs({'id': id, **attrs})}>")
+        try:
+            yield self
+        finally:
+            self._out.append("</g>")
+
+    def path(self, polylines, *, closed: bool = False, title: str | None = None, **attrs) -> None:
+        """One ``<path>`` through several polylines (rings when `closed`)."""
+        d = self.path_data(polylines, closed=closed)
+        if not d:
+            return
+        inner = f"<title>{escape(title)}</title></path>" if title is not None else None
+        self._out.append(f"<path d={quoteattr(d)}{_attrs(attrs)}" + (f">{inner}" if inner else "/>"))
+
+    def polyline(self, points, **attrs) -> None:
+        """A ``<polyline>``."""
+        self._out.append(f"<polyline points={quoteattr(' '.join(self._fmt(self._xy(points))))}{_attrs(attrs)}/>")
+
+    def rect(self, x: float, y: float, width: float, height: float, **attrs) -> None:
+        """A rectangle whose lower-left corner is (x, y)."""
+        (qx, qy), = self._xy([[x, y + height]])
+        self._out.append(f'<rect x="{_num(qx)}" y="{_num(qy)}" width="{_num(width)}" height="{_num(height)}"'
+                         f"{_attrs(attrs)}/>")
+
+    def text(self, x: float, y: float, text: str, **attrs) -> None:
+        """Text whose baseline starts (or is anchored) at (x, y)."""
+        (qx, qy), = self._xy([[x, y]])
+        self._out.append(f'<text x="{_num(qx)}" y="{_num(qy)}"{_attrs(attrs)}>{escape(text)}</text>')
+
+    def to_string(self) -> str:
+        """The whole document."""
+        return "\n".join(self._out + ["</svg>"]) + "\n"
+
+    def write(self, path) -> None:
+        """Write the document to `path`, atomically."""
+        from .files import atomic_open
+        with atomic_open(path, "w", encoding="utf-8") as fh:
+            fh.write(self.to_string())
