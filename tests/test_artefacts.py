@@ -9,7 +9,7 @@ from scipy.spatial import cKDTree
 
 import slicelab
 from slicelab import Mesh, samples
-from slicelab.artefacts.profiles import align, clip_ring, pappus_volume, profile, rotation_to_z
+from slicelab.artefacts import align, clip_ring, pappus_volume, profile, rotation_to_z
 from slicelab.mesh.validation import check
 from slicelab.cli import main
 from slicelab.geometry.topology import weld
@@ -244,7 +244,7 @@ def test_svg_drawing_has_its_layers_at_true_scale(pot, tmp_path):
 
 def test_png_is_drawn_at_the_requested_scale(pot, tmp_path):
     import matplotlib.image as mpimg
-    from slicelab.artefacts.drawing import layout
+    from slicelab.artefacts import layout
     p = profile(pot, planes=2, align=False)
     p.to_png(tmp_path / "p.png", dpi=60)
     img = mpimg.imread(tmp_path / "p.png")

@@ -1,8 +1,11 @@
 """Archaeological artefacts: vessel axis, profiles, measurements and drawings.
 
 ==========================  =====================================================
-``artefacts.profiles``      `align`, `profile`, `Measurements`
-``artefacts.drawing``       the profile drawing (layout, SVG, PNG)
+``artefacts.axis``          `align`, `Alignment`: axis onto +z, rim up, base at 0
+``artefacts.axis_fit``      axis estimators: moments, normal lines, circles
+``artefacts.profiles``      `profile`, `Profile`, `half_profiles`, `HalfProfile`
+``artefacts.measure``       `Measurements`, `measure_halves`, Pappus volumes
+``artefacts.drawing``       the profile drawing (layout, SVG); PNG in `slicelab.viz`
 ==========================  =====================================================
 """
 from __future__ import annotations
@@ -10,10 +13,10 @@ from __future__ import annotations
 import importlib
 
 # Submodule of each public name: they load on first use (matplotlib and the like are slow to import).
-_WHERE = {"Alignment": "profiles", "align": "profiles", "rotation_to_z": "profiles", "HalfProfile": "profiles", "Measurements": "profiles", "Profile": "profiles", "profile": "profiles", "half_profiles": "profiles", "pappus_volume": "profiles", "clip_ring": "profiles", "layout": "drawing", "profile_svg": "drawing", "profile_png": "drawing"}
+_WHERE = {"Alignment": "axis", "align": "axis", "rotation_to_z": "axis_fit", "surface_moments": "axis_fit", "principal_axis": "axis_fit", "normal_lines_axis": "axis_fit", "refine_axis": "axis_fit", "HalfProfile": "profiles", "half_profiles": "profiles", "Profile": "profiles", "profile": "profiles", "Measurements": "measure", "measure_halves": "measure", "pappus_volume": "measure", "clip_ring": "measure", "resample": "measure", "layout": "drawing", "profile_svg": "drawing"}
 
 
-__all__ = ["Alignment", "align", "rotation_to_z", "HalfProfile", "Measurements", "Profile", "profile", "half_profiles", "pappus_volume", "clip_ring", "layout", "profile_svg", "profile_png"]
+__all__ = ["Alignment", "align", "rotation_to_z", "surface_moments", "principal_axis", "normal_lines_axis", "refine_axis", "HalfProfile", "half_profiles", "Profile", "profile", "Measurements", "measure_halves", "pappus_volume", "clip_ring", "resample", "layout", "profile_svg"]
 
 
 def __getattr__(name):

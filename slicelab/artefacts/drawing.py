@@ -1,17 +1,18 @@
-"""The archaeological profile drawing of a vessel, as SVG and PNG, 1:1 in mm.
+"""The archaeological profile drawing of a vessel: its layout and its SVG, 1:1 in mm.
 
 Convention: a vertical axis line (dash-dot); on one side the section of the
 wall filled black; on the other the exterior outline; a rim line across the
-mouth; a scale bar in centimetres; a label with the main measurements. Both
-outputs are drawn from one layout, so the SVG and the PNG cannot disagree.
+mouth; a scale bar in centimetres; a label with the main measurements. The
+SVG here (`slicelab.export.SvgDrawing`) and the PNG (`slicelab.viz.profile_png`)
+are drawn from one `layout`, so they cannot disagree.
 """
 from __future__ import annotations
 
-from xml.sax.saxutils import escape
-
 import numpy as np
 
-__all__ = ["layout", "profile_svg", "profile_png"]
+from ..export.svg import SvgDrawing
+
+__all__ = ["layout", "profile_svg", "LINE", "THIN", "FONT"]
 
 LINE = 0.35        # mm: outline pen
 THIN = 0.18        # mm: axis, spread, scale bar
@@ -22,9 +23,27 @@ _BARS = (10, 20, 50, 100, 200, 500, 1000, 2000)
 def layout(profile, *, side: str = "left", spread: bool = False, label: str | None = None) -> dict:
     """Everything to draw, in drawing millimetres (x right, y up, the axis at x = 0).
 
-    Returns a dict with ``page`` (x0, y0, x1, y1) and ``layers``: an ordered
-    list of (id, items); an item is ``("polygon", rings)``, ``("line", points, width, dash)``,
-    ``("rect", x, y, w, h, fill)`` or ``("text", x, y, text, size, anchor)``.
+    Parameters
+    ----------
+    profile : Profile
+    side : {"left", "right"}, default "left"
+        Where the section goes; the exterior outline takes the other side.
+    spread : bool, default False
+        Also draw every other half-section (layer ``spread``).
+    label : str, optional
+        First line of the label (default: the profile's name).
+
+    Returns
+    -------
+    dict
+        ``page`` (x0, y0, x1, y1) and ``layers``: an ordered list of (id,
+        items); an item is ``("polygon", rings)``, ``("line", points, width, dash)``,
+        ``("rect", x, y, w, h, fill)`` or ``("text", x, y, text, size, anchor)``.
+
+    See Also
+    --------
+    profile_svg : draws it as SVG.
+    slicelab.viz.profile_png : draws it with matplotlib.
 
     Examples
     --------
@@ -86,6 +105,23 @@ def layout(profile, *, side: str = "left", spread: bool = False, label: str | No
 def profile_svg(profile, *, side: str = "left", spread: bool = False, label: str | None = None) -> str:
     """SVG text of the drawing: 1 user unit = 1 mm, one group per layer.
 
+    Parameters
+    ----------
+    profile : Profile
+    side, spread, label
+        As in `layout`.
+
+    Returns
+    -------
+    str
+
+    See Also
+    --------
+    layout : what is drawn.
+    slicelab.artefacts.Profile.to_svg : writes it to a file.
+    slicelab.viz.profile_png : the same layout as a PNG.
+    slicelab.export.SvgDrawing : the SVG writer.
+
     Examples
     --------
     >>> import xml.etree.ElementTree as ET
@@ -96,90 +132,24 @@ def profile_svg(profile, *, side: str = "left", spread: bool = False, label: str
     ['axis', 'exterior', 'label', 'rim', 'scale', 'section']
     """
     lay = layout(profile, side=side, spread=spread, label=label)
-    x0, y0, x1, y1 = lay["page"]
-    w, h = x1 - x0, y1 - y0
-
-    def pts(p):  # SVG's y grows downwards
-        return " ".join(f"{x - x0:.4f},{y1 - y:.4f}" for x, y in p)
-
-    out = [f'<svg xmlns="http://www.w3.org/2000/svg" width="{w:.4f}mm" height="{h:.4f}mm" '
-           f'viewBox="0 0 {w:.4f} {h:.4f}">',
-           f"<title>{escape(label if label is not None else (profile.name or 'vessel'))}</title>",
-           f"<desc>slicelab profile drawing, 1:1 in mm; {escape(repr(profile.measurements.to_dict()))}</desc>"]
+    svg = SvgDrawing(lay["page"], title=label if label is not None else (profile.name or "vessel"),
+                     desc=f"slicelab profile drawing, 1:1 in mm; {profile.measurements.to_dict()!r}")
     for name, items in lay["layers"]:
-        out.append(f'<g id="{name}">')
-        for it in items:
-            kind = it[0]
-            if kind == "polygon":
-                d = " ".join("M" + pts(r).replace(" ", " L") + " Z" for r in it[1])
-                out.append(f'<path d="{d}" fill="black" fill-rule="evenodd" stroke="black" '
-                           f'stroke-width="{LINE}" stroke-linejoin="round"/>')
-            elif kind == "line":
-                dash = f' stroke-dasharray="{it[3]}"' if it[3] else ""
-                out.append(f'<polyline points="{pts(it[1])}" fill="none" stroke="black" '
-                           f'stroke-width="{it[2]}" stroke-linejoin="round"{dash}/>'
-                           if name != "spread" else
-                           f'<polyline points="{pts(it[1])}" fill="none" stroke="#999999" '
-                           f'stroke-width="{it[2]}"/>')
-            elif kind == "rect":
-                _, x, y, rw, rh, fill = it
-                out.append(f'<rect x="{x - x0:.4f}" y="{y1 - y - rh:.4f}" width="{rw:.4f}" height="{rh:.4f}" '
-                           f'fill="{fill}" stroke="black" stroke-width="{THIN}"/>')
-            elif kind == "text":
-                _, x, y, text, size, anchor = it
-                out.append(f'<text x="{x - x0:.4f}" y="{y1 - y:.4f}" font-family="sans-serif" '
-                           f'font-size="{size}" text-anchor="{anchor}">{escape(text)}</text>')
-        out.append("</g>")
-    out.append("</svg>")
-    return "\n".join(out) + "\n"
-
-
-def profile_png(profile, path, *, dpi: float = 150.0, side: str = "left", spread: bool = False,
-                label: str | None = None) -> None:
-    """Render the drawing with matplotlib (no pyplot: safe in worker threads) and write a PNG atomically.
-
-    Examples
-    --------
-    >>> import os, tempfile
-    >>> from slicelab.artefacts import profile
-    >>> from slicelab.samples import pot
-    >>> profile_png(profile(pot(20, 24), planes=2), os.path.join(tempfile.mkdtemp(), "p.png"), dpi=40)
-    """
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-    from matplotlib.patches import PathPatch, Rectangle
-    from matplotlib.path import Path as MplPath
-
-    from ..mesh.io import atomic_path
-    lay = layout(profile, side=side, spread=spread, label=label)
-    x0, y0, x1, y1 = lay["page"]
-    pt = 72.0 / 25.4  # points per mm
-    fig = Figure(figsize=((x1 - x0) / 25.4, (y1 - y0) / 25.4), dpi=dpi)
-    FigureCanvasAgg(fig)
-    ax = fig.add_axes((0, 0, 1, 1))
-    ax.set_xlim(x0, x1)
-    ax.set_ylim(y0, y1)
-    ax.set_axis_off()
-    for name, items in lay["layers"]:
-        for it in items:
-            kind = it[0]
-            if kind == "polygon":
-                verts, codes = [], []
-                for r in it[1]:
-                    verts += [*r, r[0]]
-                    codes += [MplPath.MOVETO] + [MplPath.LINETO] * (len(r) - 1) + [MplPath.CLOSEPOLY]
-                ax.add_patch(PathPatch(MplPath(np.array(verts), codes), facecolor="black", edgecolor="black",
-                                       linewidth=LINE * pt))
-            elif kind == "line":
-                style = {"linestyle": (0, tuple(float(v) / it[2] for v in it[3].split()))} if it[3] else {}
-                ax.plot(it[1][:, 0], it[1][:, 1], color="#999999" if name == "spread" else "black",
-                        linewidth=it[2] * pt, solid_joinstyle="round", **style)
-            elif kind == "rect":
-                _, x, y, rw, rh, fill = it
-                ax.add_patch(Rectangle((x, y), rw, rh, facecolor=fill, edgecolor="black", linewidth=THIN * pt))
-            elif kind == "text":
-                _, x, y, text, size, anchor = it
-                ax.text(x, y, text, fontsize=size * pt, ha="center" if anchor == "middle" else "left",
-                        va="baseline", family="sans-serif")
-    with atomic_path(path) as tmp:
-        fig.savefig(tmp, format="png", dpi=dpi)
+        with svg.group(name):
+            for it in items:
+                kind = it[0]
+                if kind == "polygon":
+                    svg.path(it[1], closed=True, fill="black", fill_rule="evenodd", stroke="black",
+                             stroke_width=LINE, stroke_linejoin="round")
+                elif kind == "line" and name == "spread":
+                    svg.polyline(it[1], fill="none", stroke="#999999", stroke_width=it[2])
+                elif kind == "line":
+                    svg.polyline(it[1], fill="none", stroke="black", stroke_width=it[2], stroke_linejoin="round",
+                                 stroke_dasharray=it[3])
+                elif kind == "rect":
+                    _, x, y, rw, rh, fill = it
+                    svg.rect(x, y, rw, rh, fill=fill, stroke="black", stroke_width=THIN)
+                elif kind == "text":
+                    _, x, y, text, size, anchor = it
+                    svg.text(x, y, text, font_family="sans-serif", font_size=size, text_anchor=anchor)
+    return svg.to_string()

@@ -20,13 +20,125 @@ _FACING = np.array([0.80, 0.80, 0.82])           # facets seen from outside: lig
 _BACK = np.array([0.78, 0.52, 0.33])             # facets seen from inside: terracotta
 
 
+class _Projected:
+    """Corners of facets in the plane's frame: (3n, 3) float32 rows of (s, t, depth).
+
+    Single precision is ample for a picture (a micrometre on a metre) and halves the memory
+    every pass over a scan's millions of corners reads.
+    """
+
+    def __init__(self, triangles, frame):
+        t = np.asarray(triangles, dtype=np.float64).reshape(-1, 3)
+        axes = np.stack([frame.u, frame.v, frame.normal]).T
+        self.q = (t @ axes - frame.origin @ axes).astype(np.float32)
+
+    def bounds(self) -> np.ndarray:
+        """(2, 2) plane-coordinate bounds of the corners."""
+        if len(self.q) == 0:
+            return np.zeros((2, 2))
+        return np.array([[self.q[:, 0].min(), self.q[:, 1].min()], [self.q[:, 0].max(), self.q[:, 1].max()]],
+                        dtype=np.float64)
+
+
+def _render(proj: _Projected, normals, frame, extent, shape, block: int) -> np.ndarray:
+    rows, cols = shape
+    out = np.zeros((rows, cols, 4))
+    if len(proj.q) == 0:
+        return out
+    n = np.asarray(normals, dtype=np.float64)
+    s0, s1, t0, t1 = map(float, extent)
+    # Pixel coordinates with pixel centres on integers: x to the right, y downwards.
+    x = (proj.q[:, 0] * np.float32(cols / (s1 - s0)) - np.float32(s0 * cols / (s1 - s0) + 0.5)).reshape(-1, 3)
+    y = (proj.q[:, 1] * np.float32(-rows / (t1 - t0)) + np.float32(t1 * rows / (t1 - t0) - 0.5)).reshape(-1, 3)
+    depth = proj.q[:, 2].reshape(-1, 3)  # larger is nearer the viewer
+    best = np.full(rows * cols, -np.inf, dtype=np.float32)
+    owner = np.full(rows * cols, -1, dtype=np.int64)
+    # A facet within half a pixel of its first corner is drawn as two points, that corner and its
+    # centroid: a dense scan has several facets per pixel, and a point costs a fraction of a facet
+    # expanded over its pixels. Larger facets are filled.
+    reach = np.abs(x[:, 1] - x[:, 0])
+    for a, b in ((x, 2), (y, 1), (y, 2)):
+        np.maximum(reach, np.abs(a[:, b] - a[:, 0]), out=reach)
+    small = reach <= 0.5
+    _splat(small, x, y, depth, rows, cols, best, owner)
+    big = np.flatnonzero(~small)
+    if len(big):
+        _fill(big, x, y, depth, rows, cols, best, owner, block)
+    hit = np.flatnonzero(owner >= 0)
+    cos = n[owner[hit]] @ frame.normal
+    light = (0.35 + 0.65 * np.abs(cos))[:, None]
+    flat = out.reshape(-1, 4)
+    flat[hit, :3] = np.where((cos >= 0)[:, None], _FACING, _BACK) * light
+    flat[hit, 3] = 1.0
+    return out
+
+
+def _splat(small, x, y, depth, rows, cols, best, owner) -> None:
+    """Z-buffer the facets marked `small` as two points each: the first corner and the centroid."""
+    third = np.float32(1 / 3)
+    for px, py, z in ((x[:, 0], y[:, 0], depth[:, 0]),
+                      ((x[:, 0] + x[:, 1] + x[:, 2]) * third, (y[:, 0] + y[:, 1] + y[:, 2]) * third,
+                       (depth[:, 0] + depth[:, 1] + depth[:, 2]) * third)):
+        c, r = np.rint(px).astype(np.int32), np.rint(py).astype(np.int32)
+        inside = np.flatnonzero(small & (c >= 0) & (c < cols) & (r >= 0) & (r < rows))
+        pix = r[inside].astype(np.int64) * cols + c[inside]
+        z = z[inside]
+        np.maximum.at(best, pix, z)
+        win = z == best[pix]
+        owner[pix[win]] = inside[win]
+
+
+def _fill(f, x, y, depth, rows, cols, best, owner, block: int) -> None:
+    """Z-buffer facets `f` over every pixel centre inside them (edge functions), in blocks."""
+    x, y, depth = x[f].astype(np.float64), y[f].astype(np.float64), depth[f].astype(np.float64)
+    c_lo = np.clip(np.ceil(x.min(axis=1)), 0, cols).astype(np.int64)
+    c_hi = np.clip(np.floor(x.max(axis=1)), -1, cols - 1).astype(np.int64)
+    r_lo = np.clip(np.ceil(y.min(axis=1)), 0, rows).astype(np.int64)
+    r_hi = np.clip(np.floor(y.max(axis=1)), -1, rows - 1).astype(np.int64)
+    w = np.maximum(c_hi - c_lo + 1, 0)
+    count = w * np.maximum(r_hi - r_lo + 1, 0)
+    live = np.flatnonzero(count > 0)  # facets that hold at least one pixel centre in their box
+    if len(live) == 0:
+        return
+    ends = np.searchsorted(np.cumsum(count[live]), np.arange(block, int(count[live].sum()) + block, block))
+    start = 0
+    for stop in np.unique(np.minimum(ends + 1, len(live))):  # over blocks of facets, not facets
+        sel = live[start:stop]
+        start = stop
+        if len(sel) == 0:
+            continue
+        k = count[sel]
+        local = np.repeat(sel, k)
+        fid = f[local]
+        j = within_group(k)
+        px = c_lo[local] + j % w[local]
+        py = r_lo[local] + j // w[local]
+        # Edge functions: the pixel centre is inside when all three have the facet's orientation.
+        xa, ya = x[local], y[local]
+        e0 = (xa[:, 1] - xa[:, 0]) * (py - ya[:, 0]) - (ya[:, 1] - ya[:, 0]) * (px - xa[:, 0])
+        e1 = (xa[:, 2] - xa[:, 1]) * (py - ya[:, 1]) - (ya[:, 2] - ya[:, 1]) * (px - xa[:, 1])
+        e2 = (xa[:, 0] - xa[:, 2]) * (py - ya[:, 2]) - (ya[:, 0] - ya[:, 2]) * (px - xa[:, 2])
+        total = e0 + e1 + e2
+        inside = (((e0 >= 0) & (e1 >= 0) & (e2 >= 0)) | ((e0 <= 0) & (e1 <= 0) & (e2 <= 0))) & (total != 0)
+        fid, pix = fid[inside], (py * cols + px)[inside]
+        # Depth at the pixel centre from the barycentric weights (e1 weighs corner 0, e2 corner 1).
+        dz = depth[local[inside]]
+        z = ((e1[inside] * dz[:, 0] + e2[inside] * dz[:, 1] + e0[inside] * dz[:, 2]) / total[inside]).astype(np.float32)
+        cand = np.full(rows * cols, -np.inf, dtype=np.float32)
+        np.maximum.at(cand, pix, z)
+        win = (z == cand[pix]) & (z > best[pix])
+        best[pix[win]] = z[win]
+        owner[pix[win]] = fid[win]
+
+
 def render_depth(triangles, normals, frame, extent, shape, *, block: int = 4_000_000):
     """Shade of the facet nearest the viewer in each pixel (orthographic, along -normal).
 
-    Every pixel centre inside a facet's projection is a candidate (facets are
-    expanded over the pixels of their bounding box and tested with edge
-    functions, in blocks of about `block` candidates); a depth buffer keeps
-    the nearest.
+    Facets that cover pixel centres are expanded over the pixels of their
+    bounding box and tested with edge functions, in blocks of about `block`
+    candidates; facets smaller than a pixel (a dense scan's) are drawn as four
+    points each (centroid and corners), a few operations per facet. A depth
+    buffer keeps the nearest.
 
     Parameters
     ----------
@@ -57,88 +169,12 @@ def render_depth(triangles, normals, frame, extent, shape, *, block: int = 4_000
     >>> img.shape, float(img[..., 3].sum())  # the unit square: 10 x 10 pixels of 0.1 mm
     ((30, 30, 4), 100.0)
     """
-    rows, cols = shape
-    out = np.zeros((rows, cols, 4))
-    t = np.asarray(triangles, dtype=np.float64)
-    if len(t) == 0:
-        return out
-    n = np.asarray(normals, dtype=np.float64)
-    s0, s1, t0, t1 = map(float, extent)
-    ps, pt = (s1 - s0) / cols, (t1 - t0) / rows
-    # Plane coordinates and depth of every corner in one product with the frame's axes.
-    axes = np.stack([frame.u, frame.v, frame.normal], axis=1)
-    q = np.einsum("ij,jk->ik", t.reshape(-1, 3), axes) - frame.origin @ axes  # faster than @ here
-    # Pixel coordinates with pixel centres on integers: x to the right, y downwards.
-    x = ((q[:, 0] - s0) / ps - 0.5).reshape(-1, 3)
-    y = ((t1 - q[:, 1]) / pt - 0.5).reshape(-1, 3)
-    depth = q[:, 2].reshape(-1, 3)  # larger is nearer the viewer
-    del q
-
-    def lo(a):  # per-facet minimum and maximum, without a slow reduction over an axis of 3
-        return np.minimum(np.minimum(a[:, 0], a[:, 1]), a[:, 2])
-
-    def hi(a):
-        return np.maximum(np.maximum(a[:, 0], a[:, 1]), a[:, 2])
-
-    c_lo = np.clip(np.ceil(lo(x)), 0, cols).astype(np.int64)
-    c_hi = np.clip(np.floor(hi(x)), -1, cols - 1).astype(np.int64)
-    r_lo = np.clip(np.ceil(lo(y)), 0, rows).astype(np.int64)
-    r_hi = np.clip(np.floor(hi(y)), -1, rows - 1).astype(np.int64)
-    w = np.maximum(c_hi - c_lo + 1, 0)
-    count = w * np.maximum(r_hi - r_lo + 1, 0)
-    live = np.flatnonzero(count > 0)  # facets that hold at least one pixel centre in their box
-
-    best = np.full(rows * cols, -np.inf)
-    owner = np.full(rows * cols, -1, dtype=np.int64)
-    ends = np.searchsorted(np.cumsum(count[live]), np.arange(block, int(count[live].sum()) + block, block))
-    start = 0
-    for stop in np.unique(np.minimum(ends + 1, len(live))):  # over blocks of facets, not facets
-        f = live[start:stop]
-        start = stop
-        if len(f) == 0:
-            continue
-        k = count[f]
-        fid = np.repeat(f, k)
-        j = within_group(k)
-        px = c_lo[fid] + j % w[fid]
-        py = r_lo[fid] + j // w[fid]
-        # Edge functions: the pixel centre is inside when all three have the facet's orientation.
-        xa, ya = x[fid], y[fid]
-        e0 = (xa[:, 1] - xa[:, 0]) * (py - ya[:, 0]) - (ya[:, 1] - ya[:, 0]) * (px - xa[:, 0])
-        e1 = (xa[:, 2] - xa[:, 1]) * (py - ya[:, 1]) - (ya[:, 2] - ya[:, 1]) * (px - xa[:, 1])
-        e2 = (xa[:, 0] - xa[:, 2]) * (py - ya[:, 2]) - (ya[:, 0] - ya[:, 2]) * (px - xa[:, 2])
-        total = e0 + e1 + e2
-        inside = (((e0 >= 0) & (e1 >= 0) & (e2 >= 0)) | ((e0 <= 0) & (e1 <= 0) & (e2 <= 0))) & (total != 0)
-        fid, pix = fid[inside], (py * cols + px)[inside]
-        # Depth at the pixel centre from the barycentric weights (e1 weighs corner 0, e2 corner 1).
-        dz = depth[fid]
-        z = (e1[inside] * dz[:, 0] + e2[inside] * dz[:, 1] + e0[inside] * dz[:, 2]) / total[inside]
-        cand = np.full(rows * cols, -np.inf)
-        np.maximum.at(cand, pix, z)
-        win = (z == cand[pix]) & (z > best[pix])
-        best[pix[win]] = z[win]
-        owner[pix[win]] = fid[win]
-
-    hit = np.flatnonzero(owner >= 0)
-    cos = n[owner[hit]] @ frame.normal
-    light = (0.35 + 0.65 * np.abs(cos))[:, None]
-    flat = out.reshape(-1, 4)
-    flat[hit, :3] = np.where((cos >= 0)[:, None], _FACING, _BACK) * light
-    flat[hit, 3] = 1.0
-    return out
+    return _render(_Projected(triangles, frame), normals, frame, extent, shape, block)
 
 
-def _extent(split, margin: float = 0.04):
-    frame = split.section.frame
-    boxes = [split.section.bounds()] if len(split.section.segments) else []
-    for m in (split.front, split.rear):
-        if len(m):
-            flat = m.triangles.reshape(-1, 3)
-            lo, hi = flat.min(axis=0), flat.max(axis=0)
-            corners = np.array([[x, y, z] for x in (lo[0], hi[0]) for y in (lo[1], hi[1])
-                                for z in (lo[2], hi[2])])
-            uv = frame.to_2d(corners)  # the bounding box's corners bound the projection
-            boxes.append(np.stack([uv.min(axis=0), uv.max(axis=0)]))
+def _extent(boxes, margin: float = 0.04):
+    """The picture's extent: the union of plane-coordinate boxes, padded."""
+    boxes = [b for b in boxes if b is not None]
     if not boxes:
         return -1.0, 1.0, -1.0, 1.0
     lo = np.min([b[0] for b in boxes], axis=0)
@@ -147,24 +183,46 @@ def _extent(split, margin: float = 0.04):
     return lo[0] - pad, hi[0] + pad, lo[1] - pad, hi[1] + pad
 
 
-def _draw_section(ax, section, colour="#c0392b"):
+def _draw_section(ax, section, pixel: float, colour="#c0392b"):
+    """The section over a panel: rings simplified to a third of a pixel (a scan's section has
+    hundreds of thousands of points a picture cannot show), added without autoscaling."""
+    import cv2
     from matplotlib.patches import PathPatch
     from matplotlib.path import Path as MplPath
+
+    def thin(r):
+        if len(r) < 8:
+            return r
+        q = cv2.approxPolyDP(np.ascontiguousarray(r, dtype=np.float32).reshape(-1, 1, 2), pixel / 3, True)
+        return q.reshape(-1, 2).astype(np.float64) if len(q) >= 3 else r
+
     for poly in section.polygons:
-        rings = [poly.exterior, *poly.holes]
+        rings = [thin(r) for r in (poly.exterior, *poly.holes)]
         verts = np.concatenate([np.vstack([r, r[:1]]) for r in rings])
         codes = np.concatenate([[MplPath.MOVETO] + [MplPath.LINETO] * (len(r) - 1) + [MplPath.CLOSEPOLY]
                                 for r in rings])
         # Light fill, firm outline: for a solid part the section covers most of the picture.
-        ax.add_patch(PathPatch(MplPath(verts, codes), facecolor=colour, alpha=0.25, edgecolor="none"))
-        ax.add_patch(PathPatch(MplPath(verts, codes), facecolor="none", edgecolor=colour, lw=1.3))
+        path = MplPath(verts, codes)
+        for patch in (PathPatch(path, facecolor=colour, alpha=0.25, edgecolor="none"),
+                      PathPatch(path, facecolor="none", edgecolor=colour, lw=1.3)):
+            patch.set_transform(ax.transData)
+            ax.add_artist(patch)  # the limits are set by the caller: no autoscaling over every point
     for chain in section.open_chains:
-        ax.plot(chain[:, 0], chain[:, 1], color=colour, lw=1.2, ls="--")
+        ax.plot(chain[:, 0], chain[:, 1], color=colour, lw=1.2, ls="--", scalex=False, scaley=False)
 
 
 def _figsize(extent) -> tuple[float, float]:
     s0, s1, t0, t1 = extent
     return 12.0, float(np.clip(6.0 * (t1 - t0) / max(s1 - s0, 1e-12), 2.5, 9.0)) + 1.0
+
+
+def _panels(split):
+    """The two halves projected into the section's plane, and the picture's extent."""
+    frame = split.section.frame
+    front, rear = _Projected(split.front.triangles, frame), _Projected(split.rear.triangles, frame)
+    boxes = [split.section.bounds() if len(split.section.segments) else None]
+    boxes += [p.bounds() if p.q.shape[1] else None for p in (front, rear)]
+    return front, rear, _extent(boxes)
 
 
 def draw_split(split, *, pixels: int = 700, axes=None):
@@ -182,6 +240,11 @@ def draw_split(split, *, pixels: int = 700, axes=None):
     -------
     matplotlib.figure.Figure
 
+    See Also
+    --------
+    render_depth : how each panel is drawn.
+    save_split_preview : the same as a PNG file.
+
     Examples
     --------
     >>> import matplotlib; matplotlib.use("Agg")
@@ -191,21 +254,26 @@ def draw_split(split, *, pixels: int = 700, axes=None):
     >>> [ax.get_title() for ax in fig.axes]
     ['front', 'rear (front lifted away)']
     """
-    s0, s1, t0, t1 = _extent(split)
-    scale = pixels / max(s1 - s0, t1 - t0)
-    shape = (max(int(round((t1 - t0) * scale)), 1), max(int(round((s1 - s0) * scale)), 1))
+    panels = _panels(split)
     if axes is None:
         import matplotlib.pyplot as plt
-        _, axes = plt.subplots(1, 2, figsize=_figsize((s0, s1, t0, t1)), constrained_layout=True)
+        _, axes = plt.subplots(1, 2, figsize=_figsize(panels[2]), constrained_layout=True)
+    return _draw(split, panels, pixels, axes)
+
+
+def _draw(split, panels, pixels: int, axes):
+    front, rear, (s0, s1, t0, t1) = panels
+    scale = pixels / max(s1 - s0, t1 - t0)
+    shape = (max(int(round((t1 - t0) * scale)), 1), max(int(round((s1 - s0) * scale)), 1))
     fig = axes[0].figure
     frame = split.section.frame
-    panels = ((axes[0], split.front, "front"), (axes[1], split.rear, "rear (front lifted away)"))
-    for ax, mesh, title in panels:
-        img = render_depth(mesh.triangles, mesh.normals, frame, (s0, s1, t0, t1), shape)
+    panels = ((axes[0], front, split.front, "front"), (axes[1], rear, split.rear, "rear (front lifted away)"))
+    for ax, proj, mesh, title in panels:
+        img = _render(proj, mesh.normals, frame, (s0, s1, t0, t1), shape, 4_000_000)
         ax.imshow(img, extent=(s0, s1, t0, t1), origin="upper", interpolation="nearest")
-        _draw_section(ax, split.section)
         ax.set_xlim(s0, s1)
         ax.set_ylim(t0, t1)
+        _draw_section(ax, split.section, 1 / scale)
         ax.set_aspect("equal")
         ax.set_title(title)
         ax.set_xlabel("s (mm, plane frame)")
@@ -227,12 +295,11 @@ def save_split_preview(split, path, *, pixels: int = 700, dpi: int = 100) -> Non
     >>> open(out, "rb").read(4)
     b'\\x89PNG'
     """
-    from matplotlib.figure import (
-        Figure,  # no pyplot: works under any backend, leaves no figure open
-    )
+    from matplotlib.figure import Figure  # no pyplot: works under any backend, leaves no figure open
 
-    from ..mesh.io import atomic_path
-    fig = Figure(figsize=_figsize(_extent(split)), layout="constrained")
-    draw_split(split, pixels=pixels, axes=fig.subplots(1, 2))
+    from ..export.files import atomic_path
+    panels = _panels(split)
+    fig = Figure(figsize=_figsize(panels[2]), layout="constrained")
+    _draw(split, panels, pixels, fig.subplots(1, 2))
     with atomic_path(path) as tmp:
         fig.savefig(tmp, dpi=dpi, format="png")
