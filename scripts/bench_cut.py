@@ -7,10 +7,10 @@ on a mesh loaded beforehand with ``slicelab.load`` (loading is not counted).
 Every tool starts from the same triangle soup and ends with both closed parts
 as triangle soups, so each is counted *with its mesh building*:
 
-1. slicelab: ``cut(mesh, origin, normal)`` -> (rear, front) Meshes;
+1. slicelab: ``cut(mesh, origin, normal)`` -> ``Cut`` (its ``rear`` and ``front`` Meshes);
 2. trimesh: ``Trimesh(vertices, faces)`` (merges vertices) and
    ``slice_plane(..., cap=True)`` on both sides, ``.triangles`` of each;
-3. manifold3d: exact weld (``slicelab.topology.weld``), ``Mesh64`` ->
+3. manifold3d: exact weld (``slicelab.geometry.topology.weld``), ``Mesh64`` ->
    ``Manifold``, ``split_by_plane``, ``to_mesh64`` of both parts.
 
 Each tool's parts are then checked with ``slicelab.check`` (exact welding):
@@ -18,7 +18,7 @@ watertight (no open or non-manifold edge) with consistent winding, and their
 volumes added up. Planes: the torus by a tilted plane, the pot by z = 60,
 which holds a whole ring of 7,500 vertex corners (a degenerate cut).
 
-Targets (issue 7): faster than trimesh, within 2x of manifold3d, always
+Targets: faster than trimesh, within 2x of manifold3d, always
 watertight where trimesh is not. One run each on a shared machine: noisy.
 """
 from __future__ import annotations
@@ -64,9 +64,9 @@ def child(tool: str, path: str, origin: str, normal: str) -> None:
         t0 = time.perf_counter()
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
-            rear, front = slicelab.cut(mesh, o, n)
+            result = slicelab.cut(mesh, o, n)
         seconds = time.perf_counter() - t0
-        parts = (rear.triangles, front.triangles)
+        parts = (result.rear.triangles, result.front.triangles)
     elif tool == "trimesh":
         import trimesh
         t0 = time.perf_counter()

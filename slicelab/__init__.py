@@ -5,7 +5,7 @@ names (``__all__``) and keeps one job per module:
 
 =======================  ==========================================================
 ``slicelab.geometry``    plain-array kernels: plane frames, topology, chains, polygons
-``slicelab.mesh``        `Mesh`, STL input/output, `check`
+``slicelab.mesh``        `Mesh`, STL input/output, `check`, `repair`
 ``slicelab.slicing``     sections, splits, watertight cuts, partitions into pieces
 ``slicelab.toolpath``    layer rasters, perimeters, infill, paths, the print plan
 ``slicelab.artefacts``   vessel axis, profiles, measurements, drawings
@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import importlib
 
-from .mesh import Mesh, MeshFileError, MeshReport, check, load, save
+from .mesh import Mesh, MeshFileError, MeshReport, check, load, repair, save
 
 __version__ = "0.1.0"
 
@@ -40,9 +40,9 @@ _LAZY = {
     "Split": "slicing.split", "split": "slicing.split",
     "cut": "slicing.cut", "Cut": "slicing.cut", "CutWarning": "slicing.cut",
     "partition": "slicing.partition", "Partition": "slicing.partition",
-    "stair_cut": "slicing.partition", "StairCut": "slicing.partition",
-    "align": "artefacts.profiles", "Alignment": "artefacts.profiles", "profile": "artefacts.profiles",
-    "Profile": "artefacts.profiles", "Measurements": "artefacts.profiles",
+    "stair_cut": "slicing.stair", "StairCut": "slicing.stair", "StairCutError": "slicing.stair",
+    "align": "artefacts.axis", "Alignment": "artefacts.axis", "profile": "artefacts.profiles",
+    "Profile": "artefacts.profiles", "Measurements": "artefacts.measure",
     "run_batch": "tasks.batch",
     "rasterize": "toolpath.raster", "LayerRaster": "toolpath.raster", "GridMask": "toolpath.raster",
     "raster_hierarchy": "toolpath.raster",
@@ -51,7 +51,7 @@ _LAZY = {
     "PrintSettings": "toolpath.planner", "PrintPlan": "toolpath.planner", "plan": "toolpath.planner",
 }
 
-__all__ = ["Mesh", "MeshFileError", "MeshReport", "check", "load", "save", "__version__", *_LAZY]
+__all__ = ["Mesh", "MeshFileError", "MeshReport", "check", "load", "repair", "save", "__version__", *_LAZY]
 
 
 def __getattr__(name):

@@ -1,4 +1,4 @@
-"""Watertight cuts (seed 001): closed parts, exact caps, arbitrary planes, degenerate planes."""
+"""Watertight cuts: closed parts, exact caps, arbitrary planes, degenerate planes."""
 from __future__ import annotations
 
 import subprocess
@@ -12,7 +12,9 @@ from hypothesis import strategies as st
 
 import slicelab
 from slicelab import Mesh, check, samples
-from slicelab.slicing.cut import Cut, CutWarning, cut, triangle_min_angles, watertight_edges
+from slicelab.geometry.topology import manifold_summary
+from slicelab.slicing.cap import triangle_min_angles
+from slicelab.slicing.cut import Cut, CutWarning, cut
 from slicelab.slicing.split import split
 
 from conftest import ROOT, random_rotation
@@ -20,8 +22,8 @@ from conftest import ROOT, random_rotation
 
 def assert_closed(part: Mesh) -> None:
     """Edge-manifold with consistent winding and outward normals, by two independent counts."""
-    edges = watertight_edges(part.triangles)
-    assert edges["closed"], edges
+    edges = manifold_summary(part.triangles)
+    assert edges.closed, edges
     r = check(part)
     assert r.watertight and r.winding_consistent and r.n_open_edges == 0
     assert r.volume > 0
@@ -29,7 +31,6 @@ def assert_closed(part: Mesh) -> None:
 
 def assert_cut(mesh: Mesh, origin, normal, *, rel=1e-9) -> Cut:
     parts = cut(mesh, origin, normal)
-    rear, front = parts
     v0 = check(mesh).volume
     for part in parts:
         if len(part):
@@ -44,8 +45,10 @@ def assert_cut(mesh: Mesh, origin, normal, *, rel=1e-9) -> Cut:
 
 # ------------------------------------------------------------------ basics
 def test_box_halves_are_exact():
-    rear, front = parts = cut(samples.box((0, 0, 0), (2, 3, 4)), (0, 0, 1), (0, 0, 1))
-    assert isinstance(parts, tuple) and len(parts) == 2
+    parts = cut(samples.box((0, 0, 0), (2, 3, 4)), (0, 0, 1), (0, 0, 1))
+    assert isinstance(parts, Cut) and not isinstance(parts, tuple)
+    rear, front = parts  # iterating gives (rear, front)
+    assert rear is parts.rear and front is parts.front
     assert check(rear).volume == 6.0 and check(front).volume == 18.0
     assert rear.bounds.tolist() == [[0, 0, 0], [2, 3, 1]]
     assert front.bounds.tolist() == [[0, 0, 1], [2, 3, 4]]
@@ -104,9 +107,8 @@ def test_nested_shells_cap_has_a_hole_with_an_island():
     c = cap.vertices.mean(axis=1)[:, :2]
     in_hole = np.all((c > 8) & (c < 32), axis=1) & ~np.all((c > 15) & (c < 25), axis=1)
     assert not in_hole.any()  # nothing is capped where the cavity is
-    rear, front = parts
     # The cap joins the outer wall to the cavity's wall; the island stays a shell of its own.
-    assert check(rear).n_shells == 2 and check(front).n_shells == 2
+    assert check(parts.rear).n_shells == 2 and check(parts.front).n_shells == 2
 
 
 @pytest.mark.parametrize("z", [0.4, 0.8, 1.6, 3.2])
@@ -116,8 +118,7 @@ def test_planes_through_the_staircase_treads(z):
     rear_volume = float(np.minimum(heights, z).sum() * 20)
     for normal in ((0, 0, 1), (0, 0, -1)):
         parts = cut(mesh, (0, 0, z), normal)
-        rear, front = parts if normal[2] > 0 else parts[::-1]
-        below, above = (rear, front)
+        below = parts.rear if normal[2] > 0 else parts.front
         assert check(below).volume == pytest.approx(rear_volume, abs=1e-9)
         for p in parts:
             if len(p):

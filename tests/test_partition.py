@@ -1,4 +1,4 @@
-"""Partition into printable pieces, flat and stair joints (seed 001's future work)."""
+"""Partition into printable pieces, flat and stair joints."""
 from __future__ import annotations
 
 import json
@@ -10,14 +10,15 @@ import pytest
 
 import slicelab
 from slicelab import Mesh, check, samples
-from slicelab.slicing.cut import watertight_edges
-from slicelab.slicing.partition import fit_rotation, partition, stair_cut
+from slicelab.geometry.topology import manifold_summary
+from slicelab.slicing.partition import Partition, fit_rotation, partition
+from slicelab.slicing.stair import StairCutError, stair_cut
 
 from conftest import ROOT
 
 
 def assert_closed(part: Mesh) -> None:
-    assert watertight_edges(part.triangles)["closed"]
+    assert manifold_summary(part.triangles).closed
     r = check(part)
     assert r.watertight and r.winding_consistent and r.volume > 0
 
@@ -114,6 +115,14 @@ def test_bad_stair_arguments():
         stair_cut(samples.box(), 0, 5.0)  # misses the part
 
 
+def test_a_stair_that_cannot_close_raises_stair_cut_error():
+    # An open box: the band planes' sections do not close.
+    with pytest.raises(StairCutError, match="did not close"):
+        stair_cut(Mesh(samples.box((0, 0, 0), (40, 20, 20)).triangles[1:]), 0, 18.0, step=(5.0, 7.5))
+    assert issubclass(StairCutError, RuntimeError)
+    assert slicelab.StairCutError is StairCutError
+
+
 # ------------------------------------------------------------------ fitting
 def test_fit_rotation():
     assert fit_rotation(samples.box((0, 0, 0), (250, 100, 10)), (200, 300, 100)) == 90.0
@@ -129,11 +138,12 @@ def test_fit_rotation():
 # ------------------------------------------------------------------ partition
 def test_partition_of_a_long_box():
     parts = partition(samples.box((0, 0, 0), (300, 120, 80)), (200, 200, 200))
-    assert len(parts) == 2
-    for piece, info in zip(parts, parts.report.pieces):
+    assert isinstance(parts, Partition) and not isinstance(parts, list)
+    assert len(parts) == len(parts.pieces) == 2 and list(parts) == list(parts.pieces)
+    for piece, info in zip(parts.pieces, parts.report.pieces):
         assert_closed(piece)
         assert_fits(piece, (200, 200, 200), info.rotation)
-    assert sum(check(p).volume for p in parts) == pytest.approx(300 * 120 * 80, rel=1e-12)
+    assert sum(check(p).volume for p in parts.pieces) == pytest.approx(300 * 120 * 80, rel=1e-12)
     assert parts.report.glue_area == pytest.approx(120 * 80, rel=1e-12)
 
 
@@ -143,12 +153,12 @@ def test_partition_of_a_one_metre_pot_with_stair_joints():
     volume = (600.0, 600.0, 600.0)
     parts = partition(pot, volume, joint="stair", step=(50.0, 100.0))
     rep = parts.report
-    assert len(parts) == len(rep.pieces) >= 8  # at least 2 x 2 x 2
-    for piece, info in zip(parts, rep.pieces):
+    assert len(parts.pieces) == len(rep.pieces) >= 8  # at least 2 x 2 x 2
+    for piece, info in zip(parts.pieces, rep.pieces):
         assert_closed(piece)
         assert_fits(piece, volume, info.rotation)
         assert info.watertight
-    assert sum(check(p).volume for p in parts) == pytest.approx(check(pot).volume, rel=1e-9)
+    assert sum(check(p).volume for p in parts.pieces) == pytest.approx(check(pot).volume, rel=1e-9)
     stairs = [j for j in rep.joints if j.kind == "stair"]
     assert len(stairs) >= len(rep.joints) // 2
     assert all(j.glue_area >= 2 * j.flat_area for j in stairs)
@@ -158,12 +168,12 @@ def test_partition_of_a_one_metre_pot_with_stair_joints():
 def test_partition_keeps_pieces_few():
     # A 3 x 1 x 1 row of build volumes needs exactly three pieces.
     parts = partition(samples.box((0, 0, 0), (590, 190, 190)), (200, 200, 200))
-    assert len(parts) == 3
+    assert len(parts.pieces) == 3
     # Separate bodies are printed apart, with no cut between them.
     two = Mesh(np.concatenate([samples.box((0, 0, 0), (150, 150, 150)).triangles,
                                samples.box((300, 0, 0), (450, 150, 150)).triangles]))
     parts = partition(two, (200, 200, 200))
-    assert len(parts) == 2 and parts.report.joints == []
+    assert len(parts.pieces) == 2 and parts.report.joints == []
 
 
 def test_partition_bad_input():

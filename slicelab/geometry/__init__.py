@@ -2,16 +2,19 @@
 
 ==========================  =====================================================
 ``geometry.planes``         a plane's 2-D `Frame`, exact signed distances, edge crossings
-``geometry.topology``       exact vertex ids, edge tables, shells
+``geometry.topology``       exact vertex ids, edge tables, shells, edge-manifold counts
 ``geometry.chains``         chaining keyed segments into loops, joining open chains
 ``geometry.polygons``       signed area, point in ring, hole hierarchy, polygons
 ``geometry.triangles``      edge cross products, winding normals, areas
 ``geometry.ragged``         groups of varying length, expanded without a Python loop
+``geometry.contours``       marching squares, ring simplification, skeleton tracing
+``geometry.spatial``        segments cut into pieces, exact nearest distances to segments
 ==========================  =====================================================
 """
 from __future__ import annotations
 
 from .chains import Chains, chain_segments, join_open_chains
+from .contours import crossed_cells, march, simplify_ring, skeleton_neighbours, trace_skeleton
 from .planes import NEXT_CORNER, Frame, crossing_edges, edge_points, plane_distances
 from .polygons import (
     Polygon,
@@ -20,7 +23,9 @@ from .polygons import (
     points_in_ring,
     signed_area,
 )
-from .topology import edge_table, exact_ids, shells, weld
+from .ragged import expand_ranges, group_starts, within_group
+from .spatial import SegmentIndex, split_segments
+from .topology import EdgeCounts, edge_counts, edge_table, exact_ids, manifold_summary, shells, weld
 from .triangles import edge_cross, triangle_areas, winding_normals
 
-__all__ = ["Frame", "NEXT_CORNER", "crossing_edges", "edge_points", "plane_distances", "exact_ids", "weld", "edge_table", "shells", "Chains", "chain_segments", "join_open_chains", "signed_area", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons", "edge_cross", "winding_normals", "triangle_areas", "group_starts", "within_group", "expand_ranges"]
+__all__ = ["Frame", "NEXT_CORNER", "crossing_edges", "edge_points", "plane_distances", "exact_ids", "weld", "edge_table", "shells", "EdgeCounts", "edge_counts", "manifold_summary", "Chains", "chain_segments", "join_open_chains", "signed_area", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons", "edge_cross", "winding_normals", "triangle_areas", "group_starts", "within_group", "expand_ranges", "crossed_cells", "march", "simplify_ring", "skeleton_neighbours", "trace_skeleton", "split_segments", "SegmentIndex"]

@@ -1,4 +1,4 @@
-"""Exact vertex welding and edge tables, without rounding and without loops.
+"""Exact vertex welding, edge tables and edge-manifold counts, without rounding and without loops.
 
 Two points are the same vertex only when their coordinates are bit-for-bit
 equal (``-0.0`` and ``0.0`` count as equal). Rows are hashed into an
@@ -9,10 +9,11 @@ from __future__ import annotations
 
 import os
 from concurrent.futures import ThreadPoolExecutor
+from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["exact_ids", "weld", "edge_table", "shells"]
+__all__ = ["exact_ids", "weld", "edge_table", "shells", "EdgeCounts", "edge_counts", "manifold_summary"]
 
 # Odd 64-bit multipliers (from splitmix64 / xxhash) for mixing columns.
 _MULT = np.array(
@@ -269,3 +270,97 @@ def shells(faces: np.ndarray, edges: dict | None = None) -> tuple[int, np.ndarra
     graph = coo_matrix((np.ones(len(a), dtype=np.int8), (a, b)), shape=(n, n))
     count, labels = connected_components(graph, directed=False)
     return int(count), labels.astype(np.int64)
+
+
+@dataclass(frozen=True)
+class EdgeCounts:
+    """How the edges of a welded mesh are shared by its facets.
+
+    Attributes
+    ----------
+    n_edges : int
+        Distinct undirected edges.
+    n_open : int
+        Edges used by one facet only (holes in the surface).
+    n_nonmanifold : int
+        Edges used by three facets or more.
+    n_misoriented : int
+        Edges of two facets that walk them the same way (inconsistent winding).
+    """
+
+    n_edges: int
+    n_open: int
+    n_nonmanifold: int
+    n_misoriented: int
+
+    @property
+    def closed(self) -> bool:
+        """Edge-manifold with consistent winding: every edge walked once each way by two facets."""
+        return self.n_edges > 0 and self.n_open == 0 and self.n_nonmanifold == 0 and self.n_misoriented == 0
+
+
+def edge_counts(faces: np.ndarray, edges: dict | None = None) -> EdgeCounts:
+    """Open, non-manifold and misoriented edges of a welded mesh.
+
+    Parameters
+    ----------
+    faces : (n, 3) int ndarray
+    edges : dict, optional
+        `edge_table(faces)`, when already computed.
+
+    Returns
+    -------
+    EdgeCounts
+
+    See Also
+    --------
+    manifold_summary : the same counts for a triangle soup.
+    shells : the edge-connected pieces of the same edge table.
+
+    Examples
+    --------
+    >>> edge_counts(np.array([[0, 1, 2], [0, 2, 3]]))
+    EdgeCounts(n_edges=5, n_open=4, n_nonmanifold=0, n_misoriented=0)
+    >>> edge_counts(np.array([[0, 1, 2], [0, 1, 3]])).n_misoriented  # both walk 0 -> 1
+    1
+    """
+    f = np.asarray(faces, dtype=np.int64)
+    et = edge_table(f) if edges is None else edges
+    counts, first, last, forward = et["counts"], et["first"], et["last"], et["forward"]
+    # A two-facet edge is consistent when one facet walks it forward, the other backward.
+    two = counts == 2
+    return EdgeCounts(n_edges=len(counts), n_open=int(np.count_nonzero(counts == 1)),
+                      n_nonmanifold=int(np.count_nonzero(counts > 2)),
+                      n_misoriented=int(np.count_nonzero(forward[first[two]] == forward[last[two]])))
+
+
+def manifold_summary(triangles: np.ndarray) -> EdgeCounts:
+    """Edge-manifold check of a triangle soup, its corners welded exactly.
+
+    Parameters
+    ----------
+    triangles : (n, 3, 3) array_like
+
+    Returns
+    -------
+    EdgeCounts
+        ``closed`` is False for an empty soup.
+
+    See Also
+    --------
+    edge_counts : the counts of an already welded mesh.
+    slicelab.mesh.check : the full report (the same counts, plus shells, volume, normals).
+
+    Examples
+    --------
+    >>> from slicelab.samples import box
+    >>> manifold_summary(box().triangles).closed
+    True
+    >>> manifold_summary(box().triangles[1:]).n_open
+    3
+    """
+    t = np.asarray(triangles, dtype=np.float64).reshape(-1, 3, 3)
+    if len(t) == 0:
+        return EdgeCounts(0, 0, 0, 0)
+    ids, _ = exact_ids(t.reshape(-1, 3))  # the weld, without gathering the vertices
+    return edge_counts(ids.reshape(-1, 3))

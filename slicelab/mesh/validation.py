@@ -1,6 +1,6 @@
 """Mesh checks a lab needs before slicing: normals, open edges, shells, volume.
 
-Vertices are welded exactly (see `slicelab.topology`), so the counts describe
+Vertices are welded exactly (see `slicelab.geometry.topology`), so the counts describe
 the mesh as stored, with no tolerance that could hide or invent a defect.
 """
 from __future__ import annotations
@@ -10,7 +10,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from ..geometry.topology import edge_table, exact_ids, shells
+from ..geometry.topology import edge_counts, edge_table, exact_ids, shells
 from ..geometry.triangles import edge_cross
 from .core import Mesh
 
@@ -134,15 +134,9 @@ def _topology(t: np.ndarray) -> tuple[int, int, int, int, int]:
     ids, corner_of_vertex = exact_ids(t.reshape(-1, 3))  # the weld, without gathering the vertices
     faces = ids.reshape(-1, 3)
     et = edge_table(faces)
-    counts = et["counts"]
-    first, last, forward = et["first"], et["last"], et["forward"]
-    n_open = int(np.count_nonzero(counts == 1))
-    n_nonmanifold = int(np.count_nonzero(counts > 2))
-    # A two-facet edge is consistent when one facet walks it forward, the other backward.
-    two = counts == 2
-    n_misoriented = int(np.count_nonzero(forward[first[two]] == forward[last[two]]))
+    e = edge_counts(faces, et)
     n_shells, _ = shells(faces, et)
-    return len(corner_of_vertex), n_open, n_nonmanifold, n_misoriented, int(n_shells)
+    return len(corner_of_vertex), e.n_open, e.n_nonmanifold, e.n_misoriented, int(n_shells)
 
 
 def check(mesh: Mesh) -> MeshReport:

@@ -3,8 +3,10 @@
 ==========================  =====================================================
 ``slicing.sections``        `section`, `slice_layers` -> `Section`
 ``slicing.split``           `split` -> `Split` (front, rear, section), facet patterns
-``slicing.cut``             `cut` -> `Cut`: two closed parts with constrained Delaunay caps
-``slicing.partition``       `partition` into printable pieces, stair joints
+``slicing.cap``             `Cap`, `plane_edges`, `cap_segments`: constrained Delaunay caps
+``slicing.cut``             `cut` -> `Cut`: two closed parts, each capped on the plane
+``slicing.stair``           `stair_cut` -> `StairCut`: an interlocking stair joint
+``slicing.partition``       `partition` -> `Partition`: printable pieces, flat or stair joints
 ==========================  =====================================================
 
 The functions named like their module (`split`, `cut`, `partition`) are
@@ -13,27 +15,9 @@ reached as ``slicelab.split`` (or ``slicelab.slicing.split.split``):
 """
 from __future__ import annotations
 
-from .cut import (
-    Cap,
-    Cut,
-    CutReport,
-    CutWarning,
-    cap_segments,
-    plane_edges,
-    triangle_min_angles,
-    watertight_edges,
-)
-from .partition import (
-    Joint,
-    Partition,
-    PartitionReport,
-    Piece,
-    StairCut,
-    fit_rotation,
-    plot_exploded,
-    save_exploded_png,
-    stair_cut,
-)
+from .cap import Cap, cap_segments, plane_edges, triangle_min_angles
+from .cut import Cut, CutReport, CutWarning
+from .partition import Joint, Partition, PartitionReport, Piece, fit_rotation
 from .sections import (
     Section,
     layer_heights,
@@ -42,5 +26,6 @@ from .sections import (
     slice_layers,
 )
 from .split import PATTERNS, Split, classify, corner_distances, split_facets
+from .stair import StairCut, StairCutError, axis_plane, stair_cut
 
-__all__ = ["Section", "section", "slice_layers", "layer_heights", "section_from_distances", "Split", "split_facets", "classify", "corner_distances", "PATTERNS", "Cap", "Cut", "CutReport", "CutWarning", "plane_edges", "cap_segments", "triangle_min_angles", "watertight_edges", "Joint", "Piece", "PartitionReport", "Partition", "stair_cut", "StairCut", "fit_rotation", "plot_exploded", "save_exploded_png"]
+__all__ = ["Section", "section", "slice_layers", "layer_heights", "section_from_distances", "Split", "split_facets", "classify", "corner_distances", "PATTERNS", "Cap", "plane_edges", "cap_segments", "triangle_min_angles", "Cut", "CutReport", "CutWarning", "stair_cut", "StairCut", "StairCutError", "axis_plane", "Joint", "Piece", "PartitionReport", "Partition", "fit_rotation"]

@@ -1,0 +1,321 @@
+"""Contours of images: marching squares, ring simplification, skeleton tracing.
+
+Images are 2-D arrays indexed (row, col); contours come out in the same
+fractional (row, col) indices, so callers map them to the world with their
+own grid. OpenCV does the pixel-wide passes (compare, morphology,
+Douglas-Peucker), numpy the rest; no Python loop runs over pixels.
+
+See Also
+--------
+slicelab.geometry.chains : chaining the marching-squares segments into rings.
+slicelab.toolpath.distance : the distance fields whose level sets these are.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .chains import chain_segments
+
+__all__ = ["crossed_cells", "march", "simplify_ring", "skeleton_neighbours", "trace_skeleton"]
+
+_BOX = np.ones((2, 2), np.uint8)
+
+
+def crossed_cells(values: np.ndarray, level: float) -> np.ndarray:
+    """255/0 mask of the marching-squares cells the level crosses, indexed by their first corner.
+
+    Cell (i, j) has corners (i..i+1, j..j+1): it is crossed where their 2 x 2
+    maximum and minimum (of ``values >= level``) differ. OpenCV's compare and
+    morphology do it in a few fast passes. The last row and column hold no cell.
+
+    Parameters
+    ----------
+    values : (h, w) float32 or float64 ndarray
+    level : float
+
+    Returns
+    -------
+    (h, w) uint8 ndarray
+
+    See Also
+    --------
+    march : the contours through these cells.
+
+    Examples
+    --------
+    >>> v = np.zeros((4, 4)); v[1:3, 1:3] = 1
+    >>> (crossed_cells(v, 0.5) > 0).astype(int).tolist()
+    [[1, 1, 1, 0], [1, 0, 1, 0], [1, 1, 1, 0], [0, 0, 0, 0]]
+    """
+    import cv2
+    hi = cv2.compare(values, float(level), cv2.CMP_GE)
+    cells = cv2.compare(cv2.dilate(hi, _BOX, anchor=(0, 0)), cv2.erode(hi, _BOX, anchor=(0, 0)), cv2.CMP_NE)
+    cells[-1, :] = 0
+    cells[:, -1] = 0
+    return cells
+
+
+def march(values: np.ndarray, level: float) -> list[np.ndarray]:
+    """Closed contours of `values` at `level`, as (row, col) rings with the high side on the left.
+
+    Marching squares with linear interpolation along pixel edges, saddles
+    resolved by joining the high corners: the same contours as
+    ``skimage.measure.find_contours(values, level, fully_connected="high",
+    positive_orientation="low")`` (tests compare the two), but vectorised:
+    every crossing edge gets an integer key and the segments are chained by
+    `slicelab.geometry.chain_segments`, so no Python loop runs over pixels. It is
+    the per-layer hot path of whole-part planning. Contours that reach the
+    array's border are not closed and are dropped.
+
+    Parameters
+    ----------
+    values : (h, w) ndarray
+    level : float
+
+    Returns
+    -------
+    list of (k, 2) ndarray
+        Fractional (row, col) indices, implicitly closed.
+
+    See Also
+    --------
+    crossed_cells : the cells the contours pass through.
+    simplify_ring : Douglas-Peucker simplification of the rings.
+
+    References
+    ----------
+    W. E. Lorensen, H. E. Cline, "Marching cubes: a high resolution 3D surface
+    construction algorithm", SIGGRAPH 1987 (its 2-D case, marching squares).
+
+    Examples
+    --------
+    >>> v = np.zeros((5, 5)); v[1:4, 1:4] = 1; v[2, 2] = 2
+    >>> [np.round(r, 3).tolist() for r in march(v, 0.5)]
+    [[[1.0, 0.5], [0.5, 1.0], [0.5, 2.0], [0.5, 3.0], [1.0, 3.5], [2.0, 3.5], [3.0, 3.5], [3.5, 3.0], [3.5, 2.0], [3.5, 1.0], [3.0, 0.5], [2.0, 0.5]]]
+    """
+    import cv2
+    v = np.asarray(values)
+    if v.dtype not in (np.float32, np.float64):  # what cv2.compare takes
+        v = v.astype(np.float64)
+    h, w = v.shape
+    if h < 2 or w < 2:
+        return []
+    found = cv2.findNonZero(crossed_cells(v, level))
+    if found is None:
+        return []
+    c, r = found.reshape(-1, 2).T.astype(np.int64)  # (x, y) = (col, row), in row-major order
+    cu, cr, cl, cw = v[r, c] >= level, v[r, c + 1] >= level, v[r + 1, c] >= level, v[r + 1, c + 1] >= level
+    et, eb, el, er = cu != cr, cl != cw, cu != cl, cr != cw
+    # Edge keys: horizontal edge (i, j)-(i, j+1) is 2 (i w + j); vertical (i, j)-(i+1, j) is that + 1.
+    k_top, k_bottom = 2 * (r * w + c), 2 * ((r + 1) * w + c)
+    k_left, k_right = k_top + 1, 2 * (r * w + c + 1) + 1
+    saddle = et & eb & el & er
+    plain = ~saddle
+    # Walk the cell's border counter-clockwise (ul, ur, lr, ll in the (col, row) plane): the
+    # segment runs from the edge where the walk leaves the high side to the edge where it comes
+    # back, which puts the high side on the segment's left. No geometry, so ties cannot flip it.
+    def pick(top_, right_, bottom_, left_):
+        return np.where(top_, k_top, np.where(right_, k_right, np.where(bottom_, k_bottom, k_left)))
+
+    start_p = pick(cu & ~cr, cr & ~cw, cw & ~cl, cl & ~cu)[plain]
+    end_p = pick(~cu & cr, ~cr & cw, ~cw & cl, ~cl & cu)[plain]
+    # Saddles join the high corners: around each low corner, from the edge arriving at it to the
+    # edge leaving it (low ul: left -> top, low lr: right -> bottom; low ur: top -> right,
+    # low ll: bottom -> left).
+    low_ul = ~cu[saddle]
+    kt, kr, kb, kl = k_top[saddle], k_right[saddle], k_bottom[saddle], k_left[saddle]
+    start = np.concatenate([start_p, np.where(low_ul, kl, kt), np.where(low_ul, kr, kb)])
+    end = np.concatenate([end_p, np.where(low_ul, kt, kr), np.where(low_ul, kb, kl)])
+
+    def point(key):
+        vert = key & 1
+        base = key >> 1
+        i, j = base // w, base % w
+        v0, v1 = v[i, j].astype(np.float64), v[i + vert, j + (1 - vert)].astype(np.float64)
+        t = (level - v0) / (v1 - v0)
+        return i + vert * t, j + (1 - vert) * t
+
+    pr0, pc0 = point(start)
+    chains = chain_segments(start, end)
+    rings = []
+    for k in range(len(chains)):  # over contours
+        if not chains.closed[k]:
+            continue
+        idx = chains.order[chains.bounds[k]:chains.bounds[k + 1]]
+        rings.append(np.stack([pr0[idx], pc0[idx]], 1))
+    return rings
+
+
+def simplify_ring(ring: np.ndarray, tolerance: float) -> np.ndarray:
+    """Douglas-Peucker simplification of a closed ring (implicitly closed), keeping original points.
+
+    The same algorithm as `skimage.measure.approximate_polygon`, run by OpenCV's
+    ``approxPolyDP`` (C++: about 50x faster on long contours) on coordinates
+    relative to the ring's first point, so float32 costs nothing measurable;
+    the kept vertices are then taken from the float64 input.
+
+    Parameters
+    ----------
+    ring : (k, 2) ndarray
+    tolerance : float
+        Largest distance of a dropped point from the simplified ring (same units).
+
+    Returns
+    -------
+    (m, 2) ndarray
+        A subset of `ring`'s rows, in order.
+
+    See Also
+    --------
+    march : the rings this simplifies.
+
+    References
+    ----------
+    D. H. Douglas, T. K. Peucker, "Algorithms for the reduction of the number of
+    points required to represent a digitized line or its caricature",
+    The Canadian Cartographer 10(2), 1973.
+
+    Examples
+    --------
+    >>> t = np.linspace(0, 2 * np.pi, 400, endpoint=False)
+    >>> ring = np.c_[100 + 30 * np.cos(t), 200 + 30 * np.sin(t)]
+    >>> len(simplify_ring(ring, 0.05)) < 100, set(map(tuple, simplify_ring(ring, 0.05))) <= set(map(tuple, ring))
+    (True, True)
+    """
+    import cv2
+    if len(ring) < 4:
+        return ring
+    local = (ring - ring[0]).astype(np.float32)
+    kept = cv2.approxPolyDP(local.reshape(-1, 1, 2), float(tolerance), True).reshape(-1, 2)
+    # approxPolyDP returns a subset of its input points: find them back by their exact bits.
+    keys = np.ascontiguousarray(local).view(np.int64).ravel()
+    mask = np.isin(keys, np.ascontiguousarray(kept).view(np.int64).ravel())
+    return ring[mask]
+
+
+def skeleton_neighbours(skel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Skeleton pixels and their neighbours, with mixed adjacency.
+
+    A diagonal step counts only where no orthogonal path joins the two
+    pixels, so staircases are simple chains.
+
+    Parameters
+    ----------
+    skel : (h, w) bool ndarray
+        A one-pixel-wide skeleton.
+
+    Returns
+    -------
+    pts : (n, 2) int ndarray
+        (row, col) of each skeleton pixel, in row-major order.
+    nbr : (n, 8) int ndarray
+        Index (into `pts`) of each neighbour, -1 where none.
+
+    See Also
+    --------
+    trace_skeleton : the polylines these links make.
+
+    Examples
+    --------
+    >>> s = np.zeros((3, 4), bool); s[1, 0:2] = True; s[2, 2] = True   # an L: right, then down
+    >>> pts, nbr = skeleton_neighbours(s)
+    >>> pts.tolist(), sorted(int(j) for j in nbr[1] if j >= 0)
+    ([[1, 0], [1, 1], [2, 2]], [0, 2])
+    """
+    pts = np.argwhere(skel)
+    h, w = skel.shape
+    idx = np.full((h + 2, w + 2), -1, np.int64)
+    idx[pts[:, 0] + 1, pts[:, 1] + 1] = np.arange(len(pts))
+    on = idx >= 0
+    nbr = np.full((len(pts), 8), -1, np.int64)
+    r, c = pts[:, 0] + 1, pts[:, 1] + 1
+    k = 0
+    for dr in (-1, 0, 1):
+        for dc in (-1, 0, 1):
+            if dr == 0 and dc == 0:
+                continue
+            n = idx[r + dr, c + dc]
+            if dr and dc:
+                n = np.where(on[r + dr, c] | on[r, c + dc], -1, n)
+            nbr[:, k] = n
+            k += 1
+    return pts, nbr
+
+
+def trace_skeleton(skel: np.ndarray) -> list[np.ndarray]:
+    """Split a one-pixel skeleton into polylines of (row, col) indices, meeting at junctions.
+
+    Chains start at their ends (then in their middles, for cycles) and stop
+    at junction pixels (three neighbours or more), which each chain touching
+    them includes, so the polylines meet.
+
+    Parameters
+    ----------
+    skel : (h, w) bool ndarray
+        A one-pixel-wide skeleton, e.g. from ``skimage.morphology.skeletonize``
+        (Zhang and Suen's thinning).
+
+    Returns
+    -------
+    list of (k, 2) int ndarray
+
+    See Also
+    --------
+    skeleton_neighbours : the links followed.
+
+    References
+    ----------
+    T. Y. Zhang, C. Y. Suen, "A fast parallel algorithm for thinning digital
+    patterns", Communications of the ACM 27(3), 1984 (the skeletons traced).
+
+    Examples
+    --------
+    >>> s = np.zeros((5, 7), bool); s[2, 1:6] = True; s[0:2, 3] = True
+    >>> sorted(len(p) for p in trace_skeleton(s))
+    [3, 3, 3]
+    """
+    pts, nbr = skeleton_neighbours(skel)
+    if len(pts) == 0:
+        return []
+    deg = (nbr >= 0).sum(axis=1)
+    junction = deg >= 3
+    seen = junction.copy()
+    paths = []
+
+    def walk(start):
+        path = [start]
+        seen[start] = True
+        prev, cur = -1, start
+        while True:
+            nxt = [j for j in nbr[cur] if j >= 0 and j != prev and not seen[j]]
+            if not nxt:
+                break
+            prev, cur = cur, nxt[0]
+            seen[cur] = True
+            path.append(cur)
+        return path
+
+    def attach(path):
+        # Extend each end to an adjacent junction pixel so chains meet.
+        for end, pos in ((path[0], 0), (path[-1], -1)):
+            js = [j for j in nbr[end] if j >= 0 and junction[j]]
+            if js:
+                if pos == 0:
+                    path.insert(0, js[0])
+                else:
+                    path.append(js[0])
+        return path
+
+    order = np.argsort(deg != 1, kind="stable")  # chain ends first, then chains' middles, cycles
+    for s in order:  # over skeleton pixels (gap fill only: few)
+        if seen[s]:
+            continue
+        path = walk(int(s))
+        if deg[s] != 1:  # started inside a chain: extend the other way too
+            back = walk(int(s))[1:]
+            path = back[::-1] + path
+            if deg[s] == 2 and len(path) > 2 and path[0] in nbr[path[-1]]:
+                path.append(path[0])  # a cycle
+        paths.append(attach(path))
+    # Junction pixels joined only to other junctions (small clusters) are left as they are.
+    return [pts[np.array(p)] for p in paths if len(p) >= 2]
