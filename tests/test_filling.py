@@ -5,7 +5,7 @@ import pytest
 import slicelab
 from slicelab.toolpath.infill import fill_lines, rectilinear
 from slicelab.geometry.polygons import Polygon
-from slicelab.toolpath.paths import _covered, coverage_map, layer_paths
+from slicelab.toolpath.paths import coverage_map, covered_pixels, layer_paths
 from slicelab.toolpath.raster import GridMask
 from slicelab.samples import nested_shells
 from layer_shapes import SHAPES, circle, rect, rotation, section_of
@@ -54,7 +54,7 @@ def test_solid_filling_covers_the_region(name):
     region = g.mask & (f.values >= 0.8)  # inside the last perimeter
     cov = np.zeros(g.shape, bool)
     for q in lp.filling_segments:
-        cov |= _covered(g.shape, g.row0, g.col0, p, q, 0.4)
+        cov |= covered_pixels(g.shape, g.row0, g.col0, p, q, 0.4)
     gaps = np.count_nonzero(region & ~cov) / np.count_nonzero(region)
     assert gaps < 0.01
     # The whole layer: perimeters and filling together leave under 1% uncovered.

@@ -3,7 +3,8 @@ import numpy as np
 import pytest
 
 import slicelab
-from slicelab.toolpath.perimeters import SegmentIndex, layer_perimeters as perimeters
+from slicelab.geometry.spatial import SegmentIndex
+from slicelab.toolpath.perimeters import layer_perimeters as perimeters
 from slicelab.samples import nested_shells
 from layer_shapes import SHAPES, corner_angles, rect, section_of
 
@@ -146,7 +147,7 @@ def test_bad_arguments():
 def test_march_matches_skimage_find_contours():
     from skimage import measure
 
-    from slicelab.toolpath.perimeters import march
+    from slicelab.geometry.contours import march
     rng = np.random.default_rng(0)
 
     def area(r):

@@ -7,7 +7,9 @@ import numpy as np
 import pytest
 
 import slicelab
+from slicelab.export.gcode import write_gcode, write_svgs
 from slicelab.toolpath.planner import PrintSettings, layer_bounds, plan
+from slicelab.viz.layers import preview_png
 from slicelab.samples import cube_with_hole, voxels
 
 shapely = pytest.importorskip("shapely")
@@ -60,7 +62,7 @@ def cube_plan(tmp_path_factory):
     settings = PrintSettings(**FAST)
     pp = plan(mesh, settings, workers=1)
     out = tmp_path_factory.mktemp("g") / "cube.gcode"
-    pp.to_gcode(out)
+    write_gcode(pp, out)
     return mesh, settings, pp, out.read_text()
 
 
@@ -107,7 +109,7 @@ def big_plan(tmp_path_factory):
     s = PrintSettings(pixel_size=0.2, layer_height=0.5, first_layer_height=0.5)
     pp = plan(mesh, s, workers=1)
     out = tmp_path_factory.mktemp("g") / "big.gcode"
-    pp.to_gcode(out)
+    write_gcode(pp, out)
     return s, pp, out.read_text()
 
 
@@ -202,17 +204,17 @@ def test_parallel_plan_gives_the_same_gcode(tmp_path):
     mesh = cube_with_hole(8.0, 2.0, 32)
     s = PrintSettings(**FAST)
     a, b = plan(mesh, s, workers=1), plan(mesh, s, workers=2)
-    a.to_gcode(tmp_path / "a.gcode")
-    b.to_gcode(tmp_path / "b.gcode")
+    write_gcode(a, tmp_path / "a.gcode")
+    write_gcode(b, tmp_path / "b.gcode")
     assert (tmp_path / "a.gcode").read_text() == (tmp_path / "b.gcode").read_text()
 
 
 def test_svg_and_png_previews(cube_plan, tmp_path):
     mesh, s, pp, text = cube_plan
-    files = pp.to_svg(tmp_path / "svg")
+    files = write_svgs(pp, tmp_path / "svg")
     assert len(files) == len(pp.layers)
     assert "External perimeter" in files[0].read_text()
-    pp.preview_png(tmp_path / "p.png", layers=[0, 10])
+    preview_png(pp, tmp_path / "p.png", layers=[0, 10])
     assert (tmp_path / "p.png").read_bytes()[:4] == b"\x89PNG"
 
 

@@ -3,7 +3,7 @@
 ==========================  =====================================================
 ``export.files``            `atomic_path`, `atomic_open`: no half-written file
 ``export.svg``              `SvgDrawing`: the one SVG writer of every drawing
-``export.gcode``            G-code and per-layer SVG of a print plan
+``export.gcode``            G-code and per-layer SVGs of a print plan
 ==========================  =====================================================
 """
 from __future__ import annotations
@@ -11,10 +11,10 @@ from __future__ import annotations
 import importlib
 
 # Submodule of each public name: they load on first use (matplotlib and the like are slow to import).
-_WHERE = {"SvgDrawing": "svg", "atomic_path": "files", "atomic_open": "files", "write_gcode": "gcode", "gcode_lines": "gcode", "write_svgs": "gcode", "preview_png": "gcode", "ROLE_TYPES": "gcode"}
+_WHERE = {"SvgDrawing": "svg", "atomic_path": "files", "atomic_open": "files", "write_gcode": "gcode", "gcode_lines": "gcode", "write_svgs": "gcode"}
 
 
-__all__ = ["SvgDrawing", "atomic_path", "atomic_open", "write_gcode", "gcode_lines", "write_svgs", "preview_png", "ROLE_TYPES"]
+__all__ = ["SvgDrawing", "atomic_path", "atomic_open", "write_gcode", "gcode_lines", "write_svgs"]
 
 
 def __getattr__(name):

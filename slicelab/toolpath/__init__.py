@@ -1,10 +1,12 @@
-"""The printing half: layer rasters, perimeters, infill, paths and the print plan.
+"""The printing half: layer rasters, distance fields, perimeters, infill, paths and the print plan.
 
 ==========================  =====================================================
-``toolpath.raster``         `rasterize` a section, the raster hole hierarchy
-``toolpath.perimeters``     erosion-based perimeters from an exact distance field
+``toolpath.raster``         `rasterize` a section, the raster hole hierarchy, drawing lines
+``toolpath.distance``       the exact distance field of a layer and its level sets
+``toolpath.perimeters``     erosion-based perimeters, filling limits, gap fill
 ``toolpath.infill``         rectilinear filling lines
-``toolpath.paths``          `layer_paths`: one layer's ordered toolpaths
+``toolpath.roles``          path roles, their G-code ``;TYPE:`` words and colours
+``toolpath.paths``          `layer_paths`: one layer's ordered toolpaths, coverage
 ``toolpath.planner``        `plan` a whole part -> `PrintPlan`, `PrintSettings`
 ==========================  =====================================================
 """
@@ -13,10 +15,25 @@ from __future__ import annotations
 import importlib
 
 # Submodule of each public name: they load on first use (matplotlib and the like are slow to import).
-_WHERE = {"GridMask": "raster", "LayerRaster": "raster", "RasterContours": "raster", "rasterize": "raster", "winding_numbers": "raster", "raster_hierarchy": "raster", "RULES": "raster", "SegmentIndex": "perimeters", "DistanceField": "perimeters", "distance_field": "perimeters", "level_rings": "perimeters", "level_polygons": "perimeters", "Perimeters": "perimeters", "layer_perimeters": "perimeters", "trace_skeleton": "perimeters", "signed_mask_distance": "perimeters", "medial_fill": "perimeters", "simplify_ring": "perimeters", "mask_rings": "perimeters", "march": "perimeters", "FillLines": "infill", "fill_lines": "infill", "rectilinear": "infill", "line_spacing": "infill", "LayerPaths": "paths", "layer_paths": "paths", "coverage_map": "paths", "ROLES": "paths", "PrintSettings": "planner", "PrintPlan": "planner", "plan": "planner", "layer_bounds": "planner"}
+_WHERE = {"GridMask": "raster", "LayerRaster": "raster", "RasterContours": "raster", "rasterize": "raster",
+          "winding_numbers": "raster", "raster_hierarchy": "raster", "draw_polylines": "raster", "RULES": "raster",
+          "DistanceField": "distance", "signed_mask_distance": "distance", "distance_field": "distance",
+          "level_rings": "distance",
+          "level_polygons": "perimeters", "Perimeters": "perimeters", "layer_perimeters": "perimeters",
+          "medial_fill": "perimeters", "mask_rings": "perimeters",
+          "FillLines": "infill", "fill_lines": "infill", "rectilinear": "infill", "line_spacing": "infill",
+          "ROLES": "roles", "FILLING_KINDS": "roles", "KINDS": "roles", "RoleStyle": "roles", "STYLES": "roles",
+          "LayerPaths": "paths", "layer_paths": "paths", "coverage_map": "paths", "covered_pixels": "paths",
+          "PrintSettings": "planner", "PrintPlan": "planner", "plan": "planner", "layer_bounds": "planner",
+          "settings_dict": "planner"}
 
 
-__all__ = ["GridMask", "LayerRaster", "RasterContours", "rasterize", "winding_numbers", "raster_hierarchy", "RULES", "SegmentIndex", "DistanceField", "distance_field", "level_rings", "level_polygons", "Perimeters", "layer_perimeters", "trace_skeleton", "signed_mask_distance", "medial_fill", "simplify_ring", "mask_rings", "march", "FillLines", "fill_lines", "rectilinear", "line_spacing", "LayerPaths", "layer_paths", "coverage_map", "ROLES", "PrintSettings", "PrintPlan", "plan", "layer_bounds"]
+__all__ = ["GridMask", "LayerRaster", "RasterContours", "rasterize", "winding_numbers", "raster_hierarchy",
+           "draw_polylines", "RULES", "DistanceField", "signed_mask_distance", "distance_field", "level_rings",
+           "level_polygons", "Perimeters", "layer_perimeters", "medial_fill", "mask_rings", "FillLines",
+           "fill_lines", "rectilinear", "line_spacing", "ROLES", "FILLING_KINDS", "KINDS", "RoleStyle",
+           "STYLES", "LayerPaths", "layer_paths", "coverage_map", "covered_pixels", "PrintSettings",
+           "PrintPlan", "plan", "layer_bounds", "settings_dict"]
 
 
 def __getattr__(name):

@@ -16,21 +16,26 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..geometry.polygons import Polygon
+from ..geometry.ragged import expand_ranges, within_group
 
 __all__ = ["FillLines", "fill_lines", "rectilinear", "line_spacing"]
 
 
-def line_spacing(line_width: float, density: float) -> float:
-    """Distance between fill lines for a density (1 = solid).
+def line_spacing(line_width: float, infill_density: float) -> float:
+    """Distance between fill lines for an infill density (a fraction; 1 = solid).
+
+    See Also
+    --------
+    rectilinear : the lines at that spacing.
 
     Examples
     --------
     >>> line_spacing(0.4, 0.2)
     2.0
     """
-    if not (0 < density <= 1):
-        raise ValueError(f"infill density must be in (0, 1], got {density!r}")
-    return float(line_width) / float(density)
+    if not (0 < infill_density <= 1):
+        raise ValueError(f"infill density must be in (0, 1], got {infill_density!r}")
+    return float(line_width) / float(infill_density)
 
 
 @dataclass(frozen=True, eq=False)
@@ -89,6 +94,10 @@ def fill_lines(polygons: list[Polygon], spacing: float, angle: float = 45.0) -> 
     -------
     FillLines
 
+    See Also
+    --------
+    rectilinear : the lines linked into zigzags.
+
     Examples
     --------
     >>> sq = Polygon(np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float) + 0.5, (), 0)
@@ -106,14 +115,12 @@ def fill_lines(polygons: list[Polygon], spacing: float, angle: float = 45.0) -> 
     a = np.concatenate(rings)
     b = np.concatenate([np.roll(r, -1, axis=0) for r in rings])
     ring_of = np.repeat(np.arange(len(rings)), sizes)
-    edge_of = np.arange(len(a)) - np.repeat(np.cumsum(sizes) - sizes, sizes)
+    edge_of = within_group(sizes)
     # Line k meets an edge when ceil(ymin / s) <= k < ceil(ymax / s): a shared vertex gives both
     # of its edges the same verdict, so a line through a vertex is crossed once (or not at all).
     k_lo = np.ceil(np.minimum(a[:, 1], b[:, 1]) / spacing).astype(np.int64)
     k_hi = np.ceil(np.maximum(a[:, 1], b[:, 1]) / spacing).astype(np.int64)
-    cnt = k_hi - k_lo
-    idx = np.repeat(np.arange(len(a)), cnt)
-    k = np.repeat(k_lo - (np.cumsum(cnt) - cnt), cnt) + np.arange(len(idx))
+    idx, k = expand_ranges(k_lo, k_hi - k_lo)
     y = k * spacing
     t = (y - a[idx, 1]) / (b[idx, 1] - a[idx, 1])
     x = a[idx, 0] + t * (b[idx, 0] - a[idx, 0])
@@ -164,6 +171,11 @@ def rectilinear(polygons: list[Polygon], spacing: float, angle: float = 45.0, *,
     -------
     list of (k, 2) ndarray
         World-coordinate polylines.
+
+    See Also
+    --------
+    fill_lines : the clipped lines before linking.
+    line_spacing : the spacing for an infill density.
 
     Examples
     --------

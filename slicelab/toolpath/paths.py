@@ -1,14 +1,17 @@
-"""One layer's toolpaths in print order (seed 003's output formalism).
+"""One layer's toolpaths in print order, and how well they cover the layer.
 
 `layer_paths` turns a section into ``external_contour_segments`` (one
 closed polyline per island's outer boundary), ``internal_contour_segments``
 (hole boundaries and inner perimeters) and ``filling_segments`` (zigzag
 polylines), plus gap fill along the medial axis of what perimeters miss.
 Islands are printed nearest first: the outer perimeter, then the inner ones
-level by level, gap fill, then filling, as seed 003 asks ("starting by the
-outer perimeter of the part and then filling the inside"). Each loop's seam
-is put at its vertex nearest to the nozzle, and open paths are entered from
-their nearer end, which keeps travel short.
+level by level, gap fill, then filling (the outside of the part first, then
+its inside). Each loop's seam is put at its vertex nearest to the nozzle,
+and open paths are entered from their nearer end, which keeps travel short.
+
+See Also
+--------
+slicelab.toolpath.roles : the roles of the paths and how outputs name them.
 """
 from __future__ import annotations
 
@@ -16,14 +19,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..geometry.polygons import signed_area
+from ..geometry.polygons import points_in_ring, signed_area
+from ..geometry.spatial import SegmentIndex
 from .infill import line_spacing, rectilinear
-from .perimeters import Perimeters, _draw, layer_perimeters
-from .raster import GridMask, LayerRaster, rasterize
+from .perimeters import Perimeters, layer_perimeters, medial_fill
+from .raster import GridMask, LayerRaster, draw_polylines, rasterize, winding_numbers
+from .roles import ROLES
 
-__all__ = ["LayerPaths", "layer_paths", "coverage_map", "ROLES"]
-
-ROLES = ("external", "internal", "gap_fill", "filling")
+__all__ = ["LayerPaths", "layer_paths", "coverage_map", "covered_pixels"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -79,6 +82,7 @@ class LayerPaths:
                 f"travel {self.travel_length:.1f} mm)")
 
     def role_list(self, role: str) -> list:
+        """The paths of one role (one of `slicelab.toolpath.roles.ROLES`)."""
         return {"external": self.external_contour_segments, "internal": self.internal_contour_segments,
                 "gap_fill": self.gap_fill_segments, "filling": self.filling_segments}[role]
 
@@ -87,6 +91,21 @@ class LayerPaths:
         for role, i in self.sequence:
             w = self.gap_fill_widths[i] if role == "gap_fill" else self.line_width
             yield role, self.role_list(role)[i], w
+
+    def kinds(self) -> list[str]:
+        """The kind of each path in print order: its role, or ``"sparse"`` / ``"solid"`` for filling.
+
+        The keys of `slicelab.toolpath.roles.STYLES`, in step with `ordered`.
+
+        Examples
+        --------
+        >>> import slicelab
+        >>> from slicelab.samples import box
+        >>> s = slicelab.section(box((0, 0, 0), (10, 6, 1)), (0, 0, .5), (0, 0, 1))
+        >>> slicelab.layer_paths(s, 0.4, 2, 1.0, pixel_size=0.1).kinds()
+        ['external', 'internal', 'sparse']
+        """
+        return [self.filling_kinds[i] if role == "filling" else role for role, i in self.sequence]
 
     @property
     def extrusion_length(self) -> float:
@@ -116,19 +135,18 @@ def _closed_from(ring: np.ndarray, pos: np.ndarray) -> np.ndarray:
 
 def _island_of(points: np.ndarray, exteriors: list, areas: np.ndarray) -> np.ndarray:
     """Index of the smallest exterior containing each point (-1 if none)."""
-    from matplotlib.path import Path
     out = np.full(len(points), -1, np.int64)
     best = np.full(len(points), np.inf)
     if len(points) == 0:
         return out
     for k, ext in enumerate(exteriors):  # over islands
-        inside = Path(ext).contains_points(points, radius=1e-9)
+        inside = points_in_ring(points, ext)
         sel = inside & (areas[k] < best)
         out[sel], best[sel] = k, areas[k]
     return out
 
 
-def layer_paths(section, line_width: float = 0.4, perimeters: int = 2, infill_density: float = 0.2,
+def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_density: float = 0.2,
                 angle: float = 45.0, pixel_size: float = 0.05, *, layer_index: int = 0,
                 rule: str = "nonzero", overlap: float = 0.15, solid: GridMask | None = None,
                 solid_angle: float | None = None, start=None, raster: LayerRaster | None = None,
@@ -140,10 +158,10 @@ def layer_paths(section, line_width: float = 0.4, perimeters: int = 2, infill_de
     section : Section
     line_width : float, default 0.4
         Extrusion width w (mm).
-    perimeters : int, default 2
+    n_perimeters : int, default 2
         Perimeters per island, at w/2, 3w/2, ... from the boundary.
     infill_density : float, default 0.2
-        Sparse filling density in [0, 1]; lines are ``w / density`` apart.
+        Sparse filling density, a fraction in [0, 1]; lines are ``w / infill_density`` apart.
     angle : float, default 45
         Filling direction (degrees); odd layers (`layer_index`) turn it by 90.
     pixel_size : float, default 0.05
@@ -156,7 +174,7 @@ def layer_paths(section, line_width: float = 0.4, perimeters: int = 2, infill_de
         Overlap of the filling with the last perimeter, in line widths.
     solid : GridMask, optional
         Region (world grid, same pixel size) to fill solid at 100% with
-        `solid_angle`: issue 6 passes top and bottom skins here.
+        `solid_angle`: the print planner passes top and bottom skins here.
     solid_angle : float, optional
         Angle of solid filling; default the layer's filling angle.
     start : (2,) array_like, optional
@@ -169,6 +187,12 @@ def layer_paths(section, line_width: float = 0.4, perimeters: int = 2, infill_de
     Returns
     -------
     LayerPaths
+
+    See Also
+    --------
+    slicelab.toolpath.perimeters.layer_perimeters : the perimeters, filling regions and gap fill.
+    slicelab.toolpath.infill.rectilinear : the zigzag filling.
+    coverage_map : how the paths cover the layer.
 
     Examples
     --------
@@ -188,7 +212,7 @@ def layer_paths(section, line_width: float = 0.4, perimeters: int = 2, infill_de
         raster = rasterize(section, pixel_size, rule=rule)
     if solid is not None and solid.pixel_size != raster.pixel_size:
         raise ValueError("the solid mask must be on the layer's pixel grid (same pixel size)")
-    per = layer_perimeters(raster, w, perimeters, overlap=overlap, solid=solid, tolerance=tolerance)
+    per = layer_perimeters(raster, w, n_perimeters, overlap=overlap, solid=solid, tolerance=tolerance)
     fill_angle = float(angle) + 90.0 * (layer_index % 2)
     fills, kinds = [], []
     if infill_density > 0 and per.fill:
@@ -219,7 +243,7 @@ def layer_paths(section, line_width: float = 0.4, perimeters: int = 2, infill_de
     groups: dict[int, dict[str, list]] = {}
 
     def put(island, role, item):
-        groups.setdefault(int(island), {"external": [], "internal": [], "gap_fill": [], "filling": []})[role].append(item)
+        groups.setdefault(int(island), {r: [] for r in ROLES})[role].append(item)
 
     if level0:
         for i in range(len(level0)):
@@ -255,7 +279,7 @@ def layer_paths(section, line_width: float = 0.4, perimeters: int = 2, infill_de
 
     def entry_points(g):
         pts = []
-        for role in ("external", "internal", "gap_fill", "filling"):
+        for role in ROLES:
             for j in g[role]:
                 if role == "external":
                     pts.append(level0[j].exterior)
@@ -319,16 +343,14 @@ def layer_paths(section, line_width: float = 0.4, perimeters: int = 2, infill_de
 
 def _solid_gaps(per: Perimeters, fills: list, sparse: list):
     """Gap fill for what solid filling misses (slivers where its lines run nearly parallel)."""
-    from .perimeters import medial_fill
-    from .raster import winding_numbers
     w = per.line_width
     rings = [r for polys in per.rings for p in polys for r in (p.exterior, *p.holes)]
     out, widths = [], []
     for fld in per.fields:  # over tiles
         g = fld.grid
         p = g.pixel_size
-        cov = _draw(g.shape, g.row0, g.col0, p, rings, w, closed=True)
-        cov |= _draw(g.shape, g.row0, g.col0, p, list(fills) + list(per.gap_fill), w)
+        cov = draw_polylines(g.shape, g.row0, g.col0, p, rings, w, closed=True)
+        cov |= draw_polylines(g.shape, g.row0, g.col0, p, list(fills) + list(per.gap_fill), w)
         uncovered = g.mask & (cov < 128)
         if sparse:
             import cv2
@@ -343,11 +365,41 @@ def _solid_gaps(per: Perimeters, fills: list, sparse: list):
     return out, widths
 
 
-def _covered(shape, row0, col0, p, path, width) -> np.ndarray:
-    """Pixels whose centre lies within width/2 of a polyline (exact, on candidates drawn by OpenCV)."""
-    from .perimeters import SegmentIndex
+def covered_pixels(shape, row0: int, col0: int, pixel_size: float, path: np.ndarray, width) -> np.ndarray:
+    """Pixels of a window whose centre lies within width/2 of a polyline (an extrusion, round ends).
+
+    Exact: OpenCV draws candidates (`slicelab.toolpath.raster.draw_polylines`,
+    a little wider than the extrusion) and each candidate's distance to the
+    polyline is measured.
+
+    Parameters
+    ----------
+    shape : (h, w)
+        The window's shape; its first pixel is (`row0`, `col0`) of the world grid.
+    row0, col0 : int
+    pixel_size : float
+    path : (k, 2) ndarray
+        The polyline (mm).
+    width : float or (k,) ndarray
+        Extrusion width, or its width at each vertex (linear along each segment).
+
+    Returns
+    -------
+    (h, w) bool ndarray
+
+    See Also
+    --------
+    coverage_map : every extrusion of a layer counted.
+
+    Examples
+    --------
+    >>> cov = covered_pixels((5, 9), 0, 0, 1.0, np.array([[1.0, 2.0], [7.0, 2.0]]), 2.0)
+    >>> cov.astype(int)[1:4].tolist()
+    [[0, 1, 1, 1, 1, 1, 1, 1, 0], [1, 1, 1, 1, 1, 1, 1, 1, 1], [0, 1, 1, 1, 1, 1, 1, 1, 0]]
+    """
+    p = pixel_size
     # OpenCV's thick lines are up to two pixels wider than asked: good candidates, not the answer.
-    cand = _draw(shape, row0, col0, p, [path], float(np.max(width)) + 3 * p) > 0
+    cand = draw_polylines(shape, row0, col0, p, [path], float(np.max(width)) + 3 * p) > 0
     rows, cols = np.nonzero(cand)
     out = np.zeros(shape, bool)
     if len(path) < 2 or len(rows) == 0:
@@ -371,6 +423,10 @@ def coverage_map(paths: LayerPaths, pixel_size: float = 0.05, *, margin: int = 4
     grid : GridMask
         The window (``counts > 0``) on the world grid.
 
+    See Also
+    --------
+    covered_pixels : the coverage of one extrusion.
+
     Examples
     --------
     >>> import slicelab
@@ -393,6 +449,6 @@ def coverage_map(paths: LayerPaths, pixel_size: float = 0.05, *, margin: int = 4
         wmax = float(np.max(w))
         lo = np.floor(q.min(axis=0) / p - wmax / p - 3).astype(int)
         hi = np.ceil(q.max(axis=0) / p + wmax / p + 3).astype(int)
-        cov = _covered((hi[1] - lo[1] + 1, hi[0] - lo[0] + 1), int(lo[1]), int(lo[0]), p, q, w)
+        cov = covered_pixels((hi[1] - lo[1] + 1, hi[0] - lo[0] + 1), int(lo[1]), int(lo[0]), p, q, w)
         counts[lo[1] - r0:hi[1] - r0 + 1, lo[0] - c0:hi[0] - c0 + 1] += cov
     return counts, GridMask(counts > 0, int(r0), int(c0), p)

@@ -1,14 +1,18 @@
-"""Whole-part print planning: layers, top and bottom skins, parallel toolpaths, G-code.
+"""Whole-part print planning: layers, top and bottom skins, parallel toolpaths.
 
 A part is cut once, in one vectorised pass (`slice_layers`), at the middle of
 every layer: the first layer is `first_layer_height` thick, the others
-`layer_height`. Layers are then independent except for one thing, seed 003's
-"first and last layer problem": a region of a layer that the `top_layers`
-layers above (or the `bottom_layers` layers below) do not all cover is top
-(or bottom) skin, and must be filled solid. Masks share one world-anchored
-pixel grid, so a skin is a plain mask difference. Workers take runs of
-consecutive layers and rasterise the few neighbours they need themselves,
-so nothing but sections goes in and toolpaths come out.
+`layer_height`. Layers are then independent except for one thing, the first
+and last layers: a region of a layer that the `top_layers` layers above (or
+the `bottom_layers` layers below) do not all cover is top (or bottom) skin,
+and must be filled solid. Masks share one world-anchored pixel grid, so a
+skin is a plain mask difference. Workers take runs of consecutive layers and
+rasterise the few neighbours they need themselves, so nothing but sections
+goes in and toolpaths come out.
+
+See Also
+--------
+slicelab.export.gcode.write_gcode : the plan as printer G-code.
 """
 from __future__ import annotations
 
@@ -21,7 +25,7 @@ import numpy as np
 
 from ..mesh.core import Mesh
 
-__all__ = ["PrintSettings", "PrintPlan", "plan", "layer_bounds"]
+__all__ = ["PrintSettings", "PrintPlan", "plan", "layer_bounds", "settings_dict"]
 
 
 @dataclass(frozen=True)
@@ -37,7 +41,7 @@ class PrintSettings:
     layer_height: float = 0.2
     first_layer_height: float = 0.2
     line_width: float = 0.4
-    perimeters: int = 2
+    n_perimeters: int = 2
     infill_density: float = 0.2
     infill_angle: float = 45.0
     solid_angle: float | None = None
@@ -73,7 +77,7 @@ class PrintSettings:
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and v > 0 and math.isfinite(v)):
                 raise ValueError(f"{name} must be a positive number, got {v!r}")
-        for name in ("perimeters", "top_layers", "bottom_layers"):
+        for name in ("n_perimeters", "top_layers", "bottom_layers"):
             v = getattr(self, name)
             if not (isinstance(v, (int, np.integer)) and v >= 0):
                 raise ValueError(f"{name} must be a whole number >= 0, got {v!r}")
@@ -89,6 +93,18 @@ class PrintSettings:
     def filament_area(self) -> float:
         """Cross-section of the filament (mm^2)."""
         return math.pi * (self.filament_diameter / 2) ** 2
+
+
+def settings_dict(s: PrintSettings) -> dict:
+    """The settings as a plain dict, field by field (for file headers).
+
+    Examples
+    --------
+    >>> d = settings_dict(PrintSettings())
+    >>> d["n_perimeters"], d["infill_density"]
+    (2, 0.2)
+    """
+    return asdict(s)
 
 
 def layer_bounds(height: float, layer_height: float, first_layer_height: float) -> np.ndarray:
@@ -130,6 +146,13 @@ class PrintPlan:
         sparse filling region's boundary (mm, from its level set).
     part_volume : float
         Sum of material area x layer height (mm^3).
+    seconds : dict
+        Time spent slicing and making the paths.
+
+    See Also
+    --------
+    slicelab.export.gcode.write_gcode, slicelab.export.gcode.write_svgs : the plan written out.
+    slicelab.viz.layers.preview_png, slicelab.viz.layers.plan_3d : pictures of its layers.
     """
 
     settings: PrintSettings
@@ -179,21 +202,6 @@ class PrintPlan:
         links = 0.5 * edge * s.line_width if d > 0 else 0.0
         return float(np.sum(self.heights * ((total - inner) + solid + d * (inner - solid) + links)))
 
-    def to_gcode(self, path) -> None:
-        """Write Marlin-flavoured G-code (atomically)."""
-        from ..export.gcode import write_gcode
-        write_gcode(self, path)
-
-    def to_svg(self, directory) -> list:
-        """One true-scale SVG per layer in `directory`; returns the paths written."""
-        from ..export.gcode import write_svgs
-        return write_svgs(self, directory)
-
-    def preview_png(self, path, layers=None, **kwargs) -> None:
-        """A PNG of some layers' toolpaths (default: first, a quarter, middle, top)."""
-        from ..export.gcode import preview_png
-        preview_png(self, path, layers, **kwargs)
-
 
 # ------------------------------------------------------------------ workers
 _JOB: dict = {}
@@ -241,7 +249,7 @@ def _run_chunk(first: int, stop: int):
         solid = _skin_masks(k, masks, n, s)
         parity = k % 2
         solid_angle = (s.infill_angle + 90.0 * parity) if s.solid_angle is None else s.solid_angle
-        lp = layer_paths(sections[k], s.line_width, s.perimeters, s.infill_density, s.infill_angle,
+        lp = layer_paths(sections[k], s.line_width, s.n_perimeters, s.infill_density, s.infill_angle,
                          s.pixel_size, layer_index=k, rule=s.rule, overlap=s.infill_overlap, solid=solid,
                          solid_angle=solid_angle, start=pos, raster=rasters[k])
         areas = _areas(lp, rasters[k], solid, s)
@@ -263,7 +271,7 @@ def _areas(lp, raster, solid, s: PrintSettings) -> tuple[float, float, float, fl
     for f in per.fields:  # over tiles
         m = f.grid.mask
         total += np.count_nonzero(m)
-        region = m & (f.values >= s.perimeters * s.line_width)
+        region = m & (f.values >= s.n_perimeters * s.line_width)
         inner += np.count_nonzero(region)
         if solid is not None:
             sol += np.count_nonzero(region & solid.window(f.grid.row0, f.grid.col0, f.grid.shape))
@@ -286,6 +294,12 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     Returns
     -------
     PrintPlan
+
+    See Also
+    --------
+    slicelab.toolpath.paths.layer_paths : one layer's toolpaths.
+    slicelab.export.gcode.write_gcode, slicelab.export.gcode.write_svgs : the plan written out.
+    slicelab.viz.layers.preview_png : a picture of some layers.
 
     Examples
     --------
@@ -393,16 +407,10 @@ def _warm_imports() -> None:
     import scipy.spatial  # noqa: F401
     from skimage.morphology import skeletonize  # noqa: F401  (skimage loads it lazily, on first use)
 
-    from ..export import gcode  # noqa: F401
-    from . import infill, paths, perimeters, raster  # noqa: F401
+    from . import distance, infill, paths, perimeters, raster  # noqa: F401
 
 
 def _bar(total: int, progress: bool | None):
     from tqdm import tqdm
     disable = (not sys.stderr.isatty()) if progress is None else not progress
     return tqdm(total=total, unit="layer", desc="planning", disable=disable, leave=False)
-
-
-def settings_dict(s: PrintSettings) -> dict:
-    """The settings as a plain dict (for headers)."""
-    return asdict(s)

@@ -19,9 +19,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..geometry.polygons import signed_area
+from ..geometry.ragged import expand_ranges
+from ..geometry.spatial import split_segments
 
 __all__ = ["GridMask", "LayerRaster", "RasterContours", "rasterize", "winding_numbers",
-           "raster_hierarchy", "RULES"]
+           "raster_hierarchy", "draw_polylines", "RULES"]
 
 RULES = ("nonzero", "evenodd")
 
@@ -231,9 +233,7 @@ def winding_numbers(edges: np.ndarray, row0: int, col0: int, shape, pixel_size: 
     x1, y1 = edges[:, 1, 0], edges[:, 1, 1]
     r_lo = np.clip(np.ceil(np.minimum(y0, y1) / p).astype(np.int64), row0, row0 + h)
     r_hi = np.clip(np.ceil(np.maximum(y0, y1) / p).astype(np.int64), row0, row0 + h)
-    count = r_hi - r_lo
-    idx = np.repeat(np.arange(len(edges)), count)
-    rows = np.repeat(r_lo - (np.cumsum(count) - count), count) + np.arange(len(idx))
+    idx, rows = expand_ranges(r_lo, r_hi - r_lo)
     yr = rows * p
     t = (yr - y0[idx]) / (y1[idx] - y0[idx])
     x = x0[idx] + t * (x1[idx] - x0[idx])
@@ -318,22 +318,9 @@ def rasterize(section, pixel_size: float = 0.05, *, rule: str = "nonzero", margi
         tiles.append(GridMask(mask, int(r0), int(c0), p))
         # Pieces of at most 4 px, so an edge that is partly buried by another shell keeps its
         # exposed part (to within one piece).
-        pieces = _split(edges, 4 * p)
+        pieces, _ = split_segments(edges, 4 * p)
         seg_lists.append(_exposed(pieces, edges, winding, rule, int(r0), int(c0), p))
     return LayerRaster(tuple(tiles), p, rule, loops, group.astype(np.int64), seg_lists)
-
-
-def _split(edges: np.ndarray, piece: float) -> np.ndarray:
-    """Edges cut into equal pieces no longer than `piece`."""
-    d = edges[:, 1] - edges[:, 0]
-    k = np.maximum(1, np.ceil(np.hypot(d[:, 0], d[:, 1]) / piece)).astype(np.int64)
-    if (k == 1).all():
-        return edges
-    idx = np.repeat(np.arange(len(edges)), k)
-    j = (np.arange(len(idx)) - np.repeat(np.cumsum(k) - k, k))[:, None]
-    a = edges[idx, 0] + d[idx] * (j / k[idx, None])
-    b = np.where(j + 1 == k[idx, None], edges[idx, 1], edges[idx, 0] + d[idx] * ((j + 1) / k[idx, None]))
-    return np.stack([a, b], axis=1)
 
 
 def _exposed(pieces, edges, winding, rule, row0, col0, p) -> np.ndarray:
@@ -463,3 +450,52 @@ def raster_hierarchy(raster: LayerRaster) -> RasterContours:
         matched.append(match)
     cat = (lambda xs: np.concatenate(xs) if xs else np.zeros(0, np.int64))
     return RasterContours(contours, np.array(tiles, np.int64), cat(depths), cat(parents), cat(matched))
+
+
+def draw_polylines(shape, row0: int, col0: int, pixel_size: float, polylines, width: float, *,
+                   closed: bool = False, shift: int = 4) -> np.ndarray:
+    """Draw polylines `width` mm wide into a window of the world grid (uint8, 255 = covered).
+
+    OpenCV draws them anti-aliased, with sub-pixel vertices (`shift`
+    fractional bits); its thick lines come out up to two pixels wider than
+    asked, so the result marks candidates rather than exact coverage.
+
+    Parameters
+    ----------
+    shape : (h, w)
+        The window's shape; its first pixel is (`row0`, `col0`) of the world grid.
+    row0, col0 : int
+    pixel_size : float
+    polylines : list of (k, 2) ndarray
+        Points in mm.
+    width : float
+        Line width (mm).
+    closed : bool, default False
+        Join each polyline's last point to its first.
+    shift : int, default 4
+
+    Returns
+    -------
+    (h, w) uint8 ndarray
+
+    See Also
+    --------
+    slicelab.toolpath.paths.covered_pixels : the exact coverage of one polyline.
+
+    Examples
+    --------
+    >>> img = draw_polylines((5, 9), 0, 0, 1.0, [np.array([[1.0, 2.0], [7.0, 2.0]])], 1.0)
+    >>> bool((img[2, 1:8] > 0).all()), int(img[0].max()), int(img[4].max())
+    (True, 0, 0)
+    """
+    import cv2
+    img = np.zeros(shape, np.uint8)
+    if not polylines:
+        return img
+    p = pixel_size
+    scale = float(1 << shift)
+    pts = [np.round((np.asarray(q) / p - (col0, row0)) * scale).astype(np.int32).reshape(-1, 1, 2)
+           for q in polylines]
+    cv2.polylines(img, pts, closed, 255, thickness=max(1, int(round(width / p))), lineType=cv2.LINE_AA,
+                  shift=shift)
+    return img

@@ -1,13 +1,18 @@
-"""Figures for the notebooks (matplotlib, imported lazily by the functions).
+"""Figures of layers and print plans (matplotlib, imported lazily by the functions).
 
-Each helper draws on a given Axes (or a new one) and returns the Axes.
-Other stages add their own block of functions below.
+Each plotting helper draws on a given Axes (or a new one) and returns the
+Axes; `preview_png` draws a few layers of a plan into a PNG file. Paths are
+coloured by role from `slicelab.toolpath.roles.STYLES`.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-__all__ = ["plot_raster", "plot_distance", "plot_toolpath", "plot_coverage", "plan_3d"]
+from ..toolpath.roles import STYLES
+
+__all__ = ["plot_raster", "plot_distance", "plot_toolpath", "plot_coverage", "plan_3d", "preview_png"]
 
 
 def _axes(ax):
@@ -18,10 +23,7 @@ def _axes(ax):
     return ax
 
 
-# ------------------------------------------------------------- layer rasters (issue 5)
-_ROLE_STYLE = {"external": "-", "internal": "-", "gap_fill": "-", "filling": "-"}
-
-
+# ------------------------------------------------------------- layer rasters and paths
 def plot_raster(raster, hierarchy=None, ax=None, *, cmap="tab10"):
     """The material mask with its contour tree, each contour coloured by depth.
 
@@ -168,7 +170,7 @@ def plot_coverage(paths, raster=None, ax=None, *, pixel_size: float | None = Non
     return ax
 
 
-# ------------------------------------------------------------- print plans (issue 6)
+# ------------------------------------------------------------- print plans
 def plan_3d(plan, layers=None, ax=None, *, lw: float = 0.5, elev: float = 25, azim: float = -60):
     """The extrusion paths of a range of layers in 3-D, coloured by role.
 
@@ -179,11 +181,13 @@ def plan_3d(plan, layers=None, ax=None, *, lw: float = 0.5, elev: float = 25, az
     >>> from slicelab.samples import box
     >>> p = slicelab.plan(box((0, 0, 0), (4, 4, 1)), slicelab.PrintSettings(pixel_size=0.1), workers=1)
     >>> ax = plan_3d(p, range(0, 5, 2))
+
+    See Also
+    --------
+    preview_png : layers side by side, in a file.
     """
     import matplotlib.pyplot as plt
     from mpl_toolkits.mplot3d.art3d import Line3DCollection
-
-    from ..export.gcode import _COLOURS, _role
     if ax is None:
         fig = plt.figure(figsize=(7, 6))
         ax = fig.add_subplot(projection="3d")
@@ -191,10 +195,9 @@ def plan_3d(plan, layers=None, ax=None, *, lw: float = 0.5, elev: float = 25, az
     segs, cols = [], []
     for k in layers:
         lp = plan.layers[k]
-        for (role, i), (_, q, _) in zip(lp.sequence, lp.ordered()):
+        for kind, (_, q, _) in zip(lp.kinds(), lp.ordered()):
             segs.append(np.column_stack([q, np.full(len(q), lp.z)]))
-            kind = _role(lp, role, i)
-            cols.append(_COLOURS[kind] if kind != "gap_fill" else "#1c7ed6")
+            cols.append(STYLES[kind].plot_colour)
     if segs:
         ax.add_collection3d(Line3DCollection(segs, colors=cols, linewidths=lw))
         allp = np.concatenate(segs)
@@ -209,3 +212,70 @@ def plan_3d(plan, layers=None, ax=None, *, lw: float = 0.5, elev: float = 25, az
     ax.set_ylabel("y (mm)")
     ax.set_zlabel("z (mm)")
     return ax
+
+
+def preview_png(plan, path, layers=None, *, dpi: int = 110) -> None:
+    """Draw some layers' toolpaths side by side into a PNG (roles coloured, travel dotted).
+
+    Parameters
+    ----------
+    plan : PrintPlan
+    path : str or Path
+        Written atomically.
+    layers : sequence of int, optional
+        Default: the first layer, a quarter of the way up, the middle and the top.
+    dpi : int, default 110
+
+    See Also
+    --------
+    plan_3d : the layers in 3-D.
+    slicelab.export.gcode.write_svgs : every layer at true scale.
+
+    Examples
+    --------
+    >>> import matplotlib; matplotlib.use("Agg")
+    >>> import slicelab, tempfile, os
+    >>> from slicelab.samples import box
+    >>> p = slicelab.plan(box((0, 0, 0), (4, 4, 1)), slicelab.PrintSettings(pixel_size=0.1), workers=1)
+    >>> out = os.path.join(tempfile.mkdtemp(), "p.png")
+    >>> preview_png(p, out, [0, 4])
+    >>> open(out, "rb").read(4)
+    b'\\x89PNG'
+    """
+    import matplotlib.pyplot as plt
+    from matplotlib.collections import LineCollection
+
+    from ..export.files import atomic_open
+    n = len(plan.layers)
+    if layers is None:
+        layers = sorted({0, n // 4, n // 2, n - 1}) if n else []
+    layers = [k for k in layers if 0 <= k < n]
+    if not layers:
+        raise ValueError("no layer to draw")
+    cols = min(4, len(layers))
+    rows = math.ceil(len(layers) / cols)
+    fig, axs = plt.subplots(rows, cols, figsize=(4.2 * cols, 4.2 * rows), squeeze=False)
+    for ax, k in zip(axs.ravel(), layers):
+        lp = plan.layers[k]
+        segs, colours, moves, prev = [], [], [], None
+        for kind, (_, q, _) in zip(lp.kinds(), lp.ordered()):
+            segs.append(q)
+            colours.append(STYLES[kind].plot_colour)
+            if prev is not None:
+                moves.append(np.stack([prev, q[0]]))
+            prev = q[-1]
+        ax.add_collection(LineCollection(segs, colors=colours, linewidths=0.7))
+        if moves:
+            ax.add_collection(LineCollection(moves, colors="grey", linewidths=0.4, linestyles=":"))
+        if segs:
+            allp = np.concatenate(segs)
+            ax.set_xlim(allp[:, 0].min() - 1, allp[:, 0].max() + 1)
+            ax.set_ylim(allp[:, 1].min() - 1, allp[:, 1].max() + 1)
+        ax.set_aspect("equal")
+        ax.set_title(f"layer {k}, z = {lp.z:.2f} mm", fontsize=9)
+    for ax in axs.ravel()[len(layers):]:
+        ax.axis("off")
+    fig.tight_layout()
+    with atomic_open(path, "wb") as fh:
+        fig.savefig(fh, format="png", dpi=dpi)
+    plt.close(fig)
