@@ -1,5 +1,6 @@
 """STL reading and writing: formats, round trips, and every kind of bad input."""
 import struct
+import os
 import subprocess
 import sys
 import tracemalloc
@@ -109,11 +110,13 @@ def _bad_files(tmp_path):
     cases["png"] = (tmp_path / "picture.stl", "PNG")
     (tmp_path / "tiny.stl").write_bytes(b"abc")
     cases["tiny"] = (tmp_path / "tiny.stl", "not an STL")
+    os.mkfifo(tmp_path / "pipe.stl")  # reading it would block for ever
+    cases["fifo"] = (tmp_path / "pipe.stl", "not a regular file")
     return cases
 
 
 BAD = ["missing", "directory", "empty", "truncated", "billions", "garbage", "missing vertex",
-       "no endsolid", "nan", "inf ascii", "zero facets binary", "zero facets ascii", "png", "tiny"]
+       "no endsolid", "nan", "inf ascii", "zero facets binary", "zero facets ascii", "png", "tiny", "fifo"]
 
 
 @pytest.mark.parametrize("case", BAD)
@@ -129,7 +132,8 @@ def test_bad_input_raises_one_clear_error(tmp_path, case):
 @pytest.mark.parametrize("case", BAD)
 def test_cli_reports_bad_input_in_one_line_with_status_2(tmp_path, case):
     path, reason = _bad_files(tmp_path)[case]
-    r = subprocess.run([sys.executable, "-m", "slicelab", "inspect", str(path)], capture_output=True, text=True)
+    r = subprocess.run([sys.executable, "-m", "slicelab", "inspect", str(path)], capture_output=True, text=True,
+                       timeout=60)
     assert r.returncode == 2
     lines = r.stderr.strip().splitlines()
     assert len(lines) == 1 and reason in lines[0] and "Traceback" not in r.stderr

@@ -4,6 +4,7 @@
 ``mesh.core``               `Mesh`, the small immutable container
 ``mesh.io``                 `load`, `save`, `MeshFileError`
 ``mesh.validation``         `check` -> `MeshReport` (normals, open edges, shells, volume)
+``mesh.repairs``            `repair`: CAD float noise, collapsed and duplicate facets, windings
 ==========================  =====================================================
 """
 from __future__ import annotations
@@ -11,5 +12,6 @@ from __future__ import annotations
 from .core import Mesh
 from .io import MeshFileError, load, save
 from .validation import MeshReport, check, signed_volume
+from .repairs import RepairReport, Repaired, repair, near_vertex_pairs, default_tolerance
 
-__all__ = ["Mesh", "MeshFileError", "load", "save", "MeshReport", "check", "signed_volume"]
+__all__ = ["Mesh", "MeshFileError", "load", "save", "MeshReport", "check", "signed_volume", "RepairReport", "Repaired", "repair", "near_vertex_pairs", "default_tolerance"]

@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import io
 import re
+import stat
 from pathlib import Path
 
 import numpy as np
@@ -64,7 +65,7 @@ def load(path) -> Mesh:
     Raises
     ------
     MeshFileError
-        The file is missing, a directory, empty, truncated, not an STL,
+        The file is missing, a directory or another non-regular file, empty, truncated, not an STL,
         malformed, holds non-finite coordinates or no facets.
 
     Examples
@@ -80,7 +81,14 @@ def load(path) -> Mesh:
     if p.is_dir():
         raise MeshFileError(p, "is a directory, not an STL file")
     try:
-        size = p.stat().st_size
+        st = p.stat()
+    except OSError as exc:
+        raise MeshFileError(p, f"cannot be read ({exc.strerror or exc})") from None
+    if not stat.S_ISREG(st.st_mode):
+        # A FIFO or a device would block the read or never end.
+        raise MeshFileError(p, "is not a regular file (a pipe, socket or device)")
+    try:
+        size = st.st_size
         with open(p, "rb") as fh:
             head = fh.read(_HEADER + 4)
     except OSError as exc:

@@ -13,6 +13,7 @@ import numpy as np
 from ..geometry.topology import edge_counts, edge_table, exact_ids, shells
 from ..geometry.triangles import edge_cross
 from .core import Mesh
+from .repairs import default_tolerance, near_vertex_pairs
 
 __all__ = ["MeshReport", "check", "signed_volume"]
 
@@ -47,6 +48,11 @@ class MeshReport:
         No open and no non-manifold edge.
     bounds : tuple
         ((xmin, ymin, zmin), (xmax, ymax, zmax)).
+    n_near_vertices : int
+        Vertices on open edges that lie within 1e-9 of the bounding-box
+        diagonal of another such vertex: CAD float noise (a coordinate of
+        3.4e-17 where 0 is meant) rather than a real hole. `slicelab.repair`
+        snaps them.
     """
 
     n_facets: int
@@ -62,6 +68,7 @@ class MeshReport:
     area: float
     watertight: bool
     bounds: tuple
+    n_near_vertices: int = 0
 
     @property
     def winding_consistent(self) -> bool:
@@ -86,7 +93,9 @@ class MeshReport:
             f"degenerate        {self.n_degenerate}",
             f"flipped normals   {self.n_flipped_normals}",
             f"zero normals      {self.n_zero_normals}",
-            f"open edges        {self.n_open_edges}",
+            f"open edges        {self.n_open_edges}"
+            + (f" ({self.n_near_vertices} near-coincident vertices: slicelab.repair closes them)"
+               if self.n_near_vertices else ""),
             f"non-manifold      {self.n_nonmanifold_edges}",
             f"misoriented edges {self.n_misoriented_edges}",
             f"watertight        {'yes' if self.watertight else 'no'}",
@@ -129,14 +138,21 @@ def _longest2_bound(t: np.ndarray) -> np.ndarray:
     return span
 
 
-def _topology(t: np.ndarray) -> tuple[int, int, int, int, int]:
-    """Welded vertices, open / non-manifold / misoriented edges and shells."""
+def _topology(t: np.ndarray, tolerance: float) -> tuple[int, int, int, int, int, int]:
+    """Welded vertices, open / non-manifold / misoriented edges, shells and near-coincident vertices."""
     ids, corner_of_vertex = exact_ids(t.reshape(-1, 3))  # the weld, without gathering the vertices
     faces = ids.reshape(-1, 3)
     et = edge_table(faces)
     e = edge_counts(faces, et)
     n_shells, _ = shells(faces, et)
-    return len(corner_of_vertex), e.n_open, e.n_nonmanifold, e.n_misoriented, int(n_shells)
+    n_near = 0
+    if e.n_open:
+        # Only the ends of open edges can be seams that float noise opened: a few vertices to test.
+        fe = et["first"][et["counts"] == 1]
+        ends = np.unique(np.concatenate([faces.reshape(-1)[fe], faces[fe // 3, (fe % 3 + 1) % 3]]))
+        pairs = near_vertex_pairs(t.reshape(-1, 3)[corner_of_vertex[ends]], tolerance)
+        n_near = len(np.unique(pairs))
+    return len(corner_of_vertex), e.n_open, e.n_nonmanifold, e.n_misoriented, int(n_shells), n_near
 
 
 def check(mesh: Mesh) -> MeshReport:
@@ -167,7 +183,7 @@ def check(mesh: Mesh) -> MeshReport:
     # Welding and the edge table (sorting) run in a worker thread while this thread measures
     # the facets: numpy releases the GIL, so the two cores share the work.
     with ThreadPoolExecutor(max_workers=1) as pool:
-        topo = pool.submit(_topology, t)
+        topo = pool.submit(_topology, t, default_tolerance(mesh))
         import scipy.sparse.csgraph  # noqa: F401  (for `shells`, imported here while the weld runs)
         cross = edge_cross(t)
         double_area = np.sqrt(np.einsum("ij,ij->i", cross, cross))
@@ -183,7 +199,7 @@ def check(mesh: Mesh) -> MeshReport:
         n_zero_normals = int(np.count_nonzero(stored == 0))
         n_flipped = int(np.count_nonzero(np.einsum("ij,ij->i", mesh.file_normals, mesh.normals) < 0))
         volume = signed_volume(t, cross)
-        n_vertices, n_open, n_nonmanifold, n_misoriented, n_shells = topo.result()
+        n_vertices, n_open, n_nonmanifold, n_misoriented, n_shells, n_near = topo.result()
 
     lo, hi = mesh.bounds
     return MeshReport(
@@ -200,4 +216,5 @@ def check(mesh: Mesh) -> MeshReport:
         area=float(double_area.sum() / 2),
         watertight=bool(n_open == 0 and n_nonmanifold == 0),
         bounds=(tuple(map(float, lo)), tuple(map(float, hi))),
+        n_near_vertices=n_near,
     )

@@ -1,0 +1,105 @@
+"""repair: CAD float noise, collapsed and duplicate facets, windings; real CAD exports when present."""
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from slicelab import Mesh, check, load, save
+from slicelab.mesh import repair
+from slicelab.samples import box, concat, nested_shells, torus
+
+CAD = Path(__file__).resolve().parents[2] / "shared" / "meshes" / "trimesh" / "models"
+CAD_FILES = ["angle_block.STL", "featuretype.STL", "idler_riser.STL", "octagonal_pocket.stl"]
+
+
+@pytest.fixture
+def rng():
+    return np.random.default_rng(7)
+
+
+def _noisy(mesh: Mesh, rng, scale=1e-17) -> Mesh:
+    """Half the corners at each exact zero coordinate moved by CAD-like noise (as cos 90 degrees)."""
+    t = mesh.triangles.copy()
+    zeros = np.flatnonzero(t.reshape(-1) == 0)
+    pick = zeros[rng.random(len(zeros)) < 0.5]
+    t.reshape(-1)[pick] = scale * rng.uniform(0.5, 5, len(pick))
+    return Mesh(t)
+
+
+def test_float_noise_opens_edges_that_repair_closes(rng):
+    clean = torus(30, 10, 48, 24)
+    # The torus has few exact zeros; a box sitting on the origin planes has many.
+    m = concat(clean, box((-60, -60, -5), (-40, -40, 5)), box((0, 0, 0), (5, 5, 5)))
+    noisy = _noisy(m, rng)
+    before = check(noisy)
+    assert not before.watertight and before.n_open_edges > 0
+    assert before.n_near_vertices > 0
+    fixed = repair(noisy)
+    after = check(fixed.mesh)
+    assert after.watertight and after.n_misoriented_edges == 0
+    assert after.n_near_vertices == 0
+    assert fixed.report.n_snapped_vertices > 0
+    assert after.volume == pytest.approx(check(m).volume, rel=1e-12)
+    assert any("near-coincident" in c for c in fixed.report.changes())
+
+
+def test_a_clean_mesh_is_returned_unchanged():
+    m = torus(30, 10, 24, 12)
+    fixed = repair(m)
+    assert fixed.mesh is m and not fixed.report.changed and fixed.report.changes() == []
+
+
+def test_flipped_facets_are_reversed_and_inside_out_shells_turned(rng):
+    m = nested_shells()
+    t = m.triangles.copy()
+    flip = rng.random(len(t)) < 0.3
+    t[flip] = t[flip][:, ::-1]
+    bad = Mesh(t)
+    assert check(bad).n_misoriented_edges > 0
+    fixed = repair(bad)
+    r = check(fixed.mesh)
+    assert r.n_misoriented_edges == 0 and r.watertight
+    assert r.volume == pytest.approx(check(m).volume, rel=1e-12)
+    inside_out = repair(Mesh(box().triangles[:, ::-1]))
+    assert inside_out.report.n_shells_turned_outward == 1
+    assert check(inside_out.mesh).volume == pytest.approx(1.0)
+
+
+def test_duplicates_and_collapsed_facets_are_removed():
+    b = box((0, 0, 0), (2, 2, 2))
+    t = b.triangles
+    sliver = np.array([[t[0, 0], t[0, 1], t[0, 0]]])           # two corners on one vertex
+    twin = t[:3]                                               # the same facets again
+    wall = np.stack([t[4], t[4][::-1]])                        # a wall of no thickness
+    fixed = repair(Mesh(np.concatenate([t, sliver, twin, wall])))
+    assert fixed.report.n_collapsed_removed == 1
+    assert fixed.report.n_duplicates_removed == 3 + 2
+    r = check(fixed.mesh)
+    assert len(fixed.mesh) == len(t) and r.watertight and r.volume == pytest.approx(8.0)
+
+
+def test_bad_tolerance_is_refused():
+    with pytest.raises(ValueError, match="tolerance"):
+        repair(box(), tolerance=-1)
+
+
+def test_repaired_file_reads_back_watertight(rng, tmp_path):
+    noisy = _noisy(concat(box((0, 0, 0), (5, 5, 5)), box((0, 0, 10), (5, 5, 15))), rng)
+    save(repair(noisy).mesh, tmp_path / "fixed.stl")
+    assert check(load(tmp_path / "fixed.stl")).watertight
+
+
+@pytest.mark.parametrize("name", CAD_FILES)
+def test_real_cad_exports_repair_to_watertight(name):
+    path = CAD / name
+    if not path.exists():
+        pytest.skip("../shared/meshes is not present")
+    m = load(path)
+    before = check(m)
+    assert before.n_open_edges > 0 and before.n_near_vertices > 0
+    fixed = repair(m)
+    after = check(fixed.mesh)
+    assert after.watertight and after.n_misoriented_edges == 0
+    assert after.volume == pytest.approx(before.volume, rel=1e-9)
