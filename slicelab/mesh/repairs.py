@@ -206,7 +206,7 @@ def _orient(faces: np.ndarray) -> tuple[np.ndarray, int]:
     return flip, len(bad_shells)
 
 
-def repair(mesh: Mesh, *, tolerance: float | None = None) -> Repaired:
+def repair(mesh: Mesh, *, tolerance: float | None = None, orient: bool = True) -> Repaired:
     """Snap near-coincident vertices, drop collapsed and duplicate facets, make windings agree.
 
     Parameters
@@ -215,6 +215,9 @@ def repair(mesh: Mesh, *, tolerance: float | None = None) -> Repaired:
     tolerance : float, optional
         Vertices at most this far apart (mm) are merged; default 1e-9 of the
         bounding-box diagonal (`default_tolerance`). 0 merges only identical ones.
+    orient : bool, default True
+        Make windings agree and turn shells outward; False only removes
+        collapsed and duplicate facets (after snapping).
 
     Returns
     -------
@@ -255,7 +258,7 @@ def repair(mesh: Mesh, *, tolerance: float | None = None) -> Repaired:
     n_dup = int(np.count_nonzero(~keep))
     faces = faces[keep]
     n_flipped = n_outward = n_bad = 0
-    if len(faces):
+    if len(faces) and orient:
         flip, n_bad = _orient(faces)
         n_flipped = int(np.count_nonzero(flip))
         faces = np.where(flip[:, None], faces[:, ::-1], faces)
