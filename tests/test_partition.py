@@ -11,7 +11,8 @@ import pytest
 import slicelab
 from slicelab import Mesh, check, samples
 from slicelab.geometry.topology import manifold_summary
-from slicelab.slicing.partition import Partition, fit_rotation, partition
+from slicelab.slicing import Partition, fit_rotation
+from slicelab.slicing.partition import partition
 from slicelab.slicing.stair import StairCutError, stair_cut
 
 from conftest import ROOT
@@ -31,6 +32,24 @@ def assert_fits(piece: Mesh, volume, turn: float) -> None:
     xy = p[:, :2] @ rot.T
     size = np.r_[np.ptp(xy, axis=0), np.ptp(p[:, 2])]
     assert np.all(size <= np.asarray(volume) * (1 + 1e-9)), (size, volume, turn)
+
+
+def assert_placed(piece: Mesh, volume, info) -> None:
+    """Moved by its placement, the piece lies on the bed, inside the build volume, with its
+    largest flat face down."""
+    placed = piece.transformed(info.placement.matrix)
+    lo, hi = placed.bounds
+    tol = 1e-9 * max(volume)
+    assert np.all(lo >= -tol) and np.all(hi <= np.asarray(volume) + tol), (lo, hi, volume)
+    assert abs(lo[2]) <= tol
+    assert tuple(hi - lo) == pytest.approx(info.size, abs=1e-9)
+    assert check(placed).volume == pytest.approx(check(piece).volume, rel=1e-12)
+    if info.placement.flat_area > 0:
+        # The face on the bed: facets in z = 0 facing down, as large as the placement says.
+        t = placed.triangles
+        down = np.all(np.abs(t[:, :, 2]) <= tol, axis=1) & (placed.normals[:, 2] < -0.999)
+        area = check(Mesh(t[down])).area
+        assert area == pytest.approx(info.placement.flat_area, rel=1e-9)
 
 
 def solid_of(mesh: Mesh):
@@ -142,7 +161,7 @@ def test_partition_of_a_long_box():
     assert len(parts) == len(parts.pieces) == 2 and list(parts) == list(parts.pieces)
     for piece, info in zip(parts.pieces, parts.report.pieces):
         assert_closed(piece)
-        assert_fits(piece, (200, 200, 200), info.rotation)
+        assert_placed(piece, (200, 200, 200), info)
     assert sum(check(p).volume for p in parts.pieces) == pytest.approx(300 * 120 * 80, rel=1e-12)
     assert parts.report.glue_area == pytest.approx(120 * 80, rel=1e-12)
 
@@ -156,13 +175,29 @@ def test_partition_of_a_one_metre_pot_with_stair_joints():
     assert len(parts.pieces) == len(rep.pieces) >= 8  # at least 2 x 2 x 2
     for piece, info in zip(parts.pieces, rep.pieces):
         assert_closed(piece)
-        assert_fits(piece, volume, info.rotation)
+        assert_placed(piece, volume, info)
         assert info.watertight
+        # A cut face, not the stair's terraces nor the pot's curved wall, rests on the bed.
+        assert info.placement.flat_area > 0
     assert sum(check(p).volume for p in parts.pieces) == pytest.approx(check(pot).volume, rel=1e-9)
     stairs = [j for j in rep.joints if j.kind == "stair"]
     assert len(stairs) >= len(rep.joints) // 2
     assert all(j.glue_area >= 2 * j.flat_area for j in stairs)
     assert rep.glue_area > 2 * sum(j.flat_area for j in stairs)
+
+
+def test_a_piece_is_laid_on_its_cut_face_and_turned_to_fit():
+    # A 150 mm tall bar in a 100 mm tall volume: cut in two; each half lies on its cut face
+    # (the largest flat face that is not its original bottom) only when that fits better.
+    parts = partition(samples.box((0, 0, 0), (20, 30, 150)), (100, 100, 100))
+    assert len(parts.pieces) == 2
+    for piece, info in zip(parts.pieces, parts.report.pieces):
+        assert_placed(piece, (100, 100, 100), info)
+    # Lying flat, a 260 mm bar fits a 200 x 200 bed only on the diagonal.
+    parts = partition(samples.box((0, 0, 0), (260, 10, 10)), (200, 200, 50))
+    (info,) = parts.report.pieces
+    assert 30 < info.rotation % 90 < 60 and info.placement.down in ("-z", "+z", "-y", "+y")
+    assert_placed(parts.pieces[0], (200, 200, 50), info)
 
 
 def test_partition_keeps_pieces_few():

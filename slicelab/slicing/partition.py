@@ -37,9 +37,10 @@ from ..mesh.core import Mesh
 from ..mesh.validation import signed_volume
 from .cut import cut
 from .sections import section
+from .placement import Placement, place_for_printing
 from .stair import StairCutError, axis_plane, stair_cut
 
-__all__ = ["Joint", "Piece", "PartitionReport", "Partition", "partition", "fit_rotation"]
+__all__ = ["Joint", "Piece", "PartitionReport", "Partition", "partition"]
 
 _AXES = "xyz"
 
@@ -88,14 +89,17 @@ class Piece:
     Attributes
     ----------
     size : tuple of float
-        Bounding-box size (x, y, z) in the part's own coordinates (mm).
+        Bounding-box size (x, y, z) as placed for printing (mm).
     rotation : float
-        Turn about z (degrees) that makes it fit the build volume.
+        Turn about z (degrees) after it is laid down.
     volume : float
         mm^3.
     watertight : bool
         Every edge shared by two facets walking it opposite ways.
     n_facets : int
+    placement : Placement
+        The rigid motion from the part's coordinates to the printer's: a flat
+        cut face down where there is one, turned to fit, centred on the bed.
     """
 
     size: tuple
@@ -103,6 +107,7 @@ class Piece:
     volume: float
     watertight: bool
     n_facets: int
+    placement: Placement | None = None
 
 
 @dataclass(frozen=True)
@@ -150,7 +155,9 @@ class PartitionReport:
         return {"build_volume": list(self.build_volume), "joint": self.joint, "clearance": self.clearance,
                 "glue_area": self.glue_area, "flat_area": self.flat_area,
                 "pieces": [{"size": list(p.size), "rotation": p.rotation, "volume": p.volume,
-                            "watertight": p.watertight, "n_facets": p.n_facets} for p in self.pieces],
+                            "watertight": p.watertight, "n_facets": p.n_facets,
+                            "placement": None if p.placement is None else p.placement.to_dict()}
+                           for p in self.pieces],
                 "joints": [{"axis": _AXES[j.axis], "position": j.position, "kind": j.kind,
                             "flat_area": j.flat_area, "glue_area": j.glue_area, "ratio": j.ratio,
                             "step_axis": None if j.step_axis is None else _AXES[j.step_axis],
@@ -187,64 +194,6 @@ class Partition:
 
 
 # ------------------------------------------------------------------ fitting
-def fit_rotation(mesh: Mesh, build_volume, *, rotate: bool = True) -> float | None:
-    """Turn about z (degrees) that makes the part fit the build volume, or None.
-
-    Tries the part as it lies, then (with `rotate`) turned by 90 degrees, then
-    every direction of an edge of its convex hull in plan (the smallest
-    enclosing rectangles are aligned with one) and every half degree (a long
-    part may only fit along the diagonal).
-
-    Examples
-    --------
-    >>> from slicelab.samples import box
-    >>> fit_rotation(box((0, 0, 0), (250, 100, 10)), (200, 300, 100))
-    90.0
-    >>> fit_rotation(box((0, 0, 0), (250, 100, 10)), (200, 200, 100)) is None
-    True
-
-    References
-    ----------
-    .. [1] H. Freeman, R. Shapira, "Determining the minimum-area encasing
-       rectangle for an arbitrary closed curve", Communications of the ACM
-       18(7), pp. 409-413, 1975 (a side of the smallest rectangle lies along
-       an edge of the convex hull).
-    """
-    X, Y, Z = (float(v) for v in build_volume)
-    lo, hi = mesh.bounds
-    e = hi - lo
-    tol = 1e-9 * max(float(np.abs(mesh.bounds).max()), 1.0)
-    if e[2] > Z + tol:
-        return None
-    if e[0] <= X + tol and e[1] <= Y + tol:
-        return 0.0
-    if not rotate:
-        return None
-    if e[0] <= Y + tol and e[1] <= X + tol:
-        return 90.0
-    from scipy.spatial import ConvexHull
-    xy = mesh.triangles.reshape(-1, 3)[:, :2]
-    try:
-        hull = xy[ConvexHull(xy).vertices]
-    except Exception:  # flat or degenerate outline
-        return None
-    edges = np.roll(hull, -1, axis=0) - hull
-    # Hull edge directions hold the smallest rectangles; a sweep finds the diagonal fits.
-    ang = np.concatenate([np.arctan2(edges[:, 1], edges[:, 0]) % (np.pi / 2), np.radians(np.arange(0.5, 90, 0.5))])
-    c, s = np.cos(ang), np.sin(ang)
-    u = hull @ np.stack([c, s])           # extents along each edge direction
-    v = hull @ np.stack([-s, c])
-    wu, wv = np.ptp(u, axis=0), np.ptp(v, axis=0)
-    ok = ((wu <= X + tol) & (wv <= Y + tol)) | ((wu <= Y + tol) & (wv <= X + tol))
-    if not ok.any():
-        return None
-    k = int(np.flatnonzero(ok)[0])
-    a = -np.degrees(ang[k])  # turn the edge onto x
-    if not (wu[k] <= X + tol and wv[k] <= Y + tol):
-        a += 90.0
-    return float(a % 360.0)
-
-
 def _counts(e: np.ndarray, V: np.ndarray, margin: float) -> np.ndarray:
     step = V - margin
     return np.where(e <= V, 1, np.ceil((e - margin) / np.maximum(step, 1e-300))).astype(int)
@@ -343,7 +292,7 @@ def partition(mesh: Mesh, build_volume=(200.0, 200.0, 200.0), *, joint: str = "f
     --------
     slicelab.slicing.cut.cut : the flat cut of each joint.
     slicelab.slicing.stair.stair_cut : the stair joint.
-    fit_rotation : the turn that makes a piece fit.
+    slicelab.slicing.placement.place_for_printing : how each piece is laid on the bed.
     slicelab.viz.save_exploded_png : a picture of the pieces pushed apart.
 
     References
@@ -379,9 +328,9 @@ def partition(mesh: Mesh, build_volume=(200.0, 200.0, 200.0), *, joint: str = "f
     pending = [mesh]
     while pending:  # over pieces
         m = pending.pop()
-        turn = fit_rotation(m, V, rotate=rotate)
-        if turn is not None:
-            done.append((m, turn))
+        placed = place_for_printing(m, V, rotate=rotate)
+        if placed is not None:
+            done.append((m, placed))
             continue
         bodies = _bodies(m)
         if len(bodies) > 1:  # separate bodies are printed apart: no cut needed between them
@@ -404,10 +353,9 @@ def partition(mesh: Mesh, build_volume=(200.0, 200.0, 200.0), *, joint: str = "f
 
     pieces = [m for m, _ in done]
     infos = []
-    for m, turn in done:  # over pieces
-        lo, hi = m.bounds
-        infos.append(Piece(tuple(float(v) for v in hi - lo), float(turn), signed_volume(m.triangles),
-                           manifold_summary(m.triangles).closed, len(m)))
+    for m, placed in done:  # over pieces
+        infos.append(Piece(placed.size, placed.turn, signed_volume(m.triangles),
+                           manifold_summary(m.triangles).closed, len(m), placed))
     report = PartitionReport(tuple(float(v) for v in V), joint, float(clearance), infos, joints)
     return Partition(tuple(pieces), report)
 
