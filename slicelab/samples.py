@@ -287,6 +287,35 @@ def overlapping_cubes() -> Mesh:
     return concat(box((0, 0, 0), (20, 20, 20)), box((10, 10, 5), (30, 30, 25)))
 
 
+def figure_eight_prism(height: float = 10.0) -> Mesh:
+    """A prism over a ring that crosses itself (a figure eight): one closed shell that passes
+    through itself, as a careless boolean or a self-intersecting scan leaves.
+
+    The ring runs (0, 0) -> (0, 8) -> (30, 0) -> (30, 12): two of its edges
+    cross at (12, 4.8), and its signed area is 60 mm2 (a lobe of 96 mm2 wound
+    counter-clockwise, one of 36 mm2 clockwise). The top and bottom are fans
+    of triangles, so every edge is shared by two facets: the mesh checks as
+    watertight, with a signed volume of 60 x height.
+
+    Examples
+    --------
+    >>> from slicelab import check
+    >>> r = check(figure_eight_prism())
+    >>> r.watertight, r.n_shells
+    (True, 1)
+    """
+    ring = np.array([[0.0, 0.0], [0.0, 8.0], [30.0, 0.0], [30.0, 12.0]])
+    n = len(ring)
+    v = np.concatenate([np.column_stack([ring, np.zeros(n)]), np.column_stack([ring, np.full(n, height)])])
+    k = np.arange(n)
+    nxt = (k + 1) % n
+    sides = np.concatenate([np.stack([k, nxt, nxt + n], 1), np.stack([k, nxt + n, k + n], 1)])
+    top = np.stack([np.full(n - 2, n), k[1:-1] + n, k[2:] + n], 1)
+    bottom = np.stack([np.zeros(n - 2, np.int64), k[2:], k[1:-1]], 1)
+    faces = np.concatenate([sides, top, bottom])
+    return Mesh.from_vertices_faces(v, faces)
+
+
 def voxels(occupancy, pitch=(1.0, 1.0, 1.0), origin=(0.0, 0.0, 0.0)) -> Mesh:
     """The boundary of a union of grid cells, as a watertight mesh.
 

@@ -244,6 +244,39 @@ def test_an_open_edge_near_the_plane_is_not_capped():
     assert len(parts.rear) == 1 and len(parts.front) == 2
 
 
+# ------------------------------------------------------------------ self-intersecting input
+def _closed_on_disk(part: Mesh, path) -> float:
+    """Write the part as STL, read it back: watertight with consistent windings; its volume."""
+    from slicelab.export import write_mesh
+    written = write_mesh(part, path)
+    back = check(slicelab.load(path))
+    assert back.watertight and back.winding_consistent and written.report == back
+    return back.volume
+
+
+def test_a_figure_eight_section_closes_both_parts_and_says_where_it_crosses(tmp_path):
+    prism = samples.figure_eight_prism(10.0)   # its section crosses itself at (12, 4.8)
+    res = cut(prism, (0, 0, 5), (0, 0, 1))
+    assert res.report.closed
+    notes = res.report.rear_cap.notes
+    assert len(notes) == 1 and "crosses itself near (12, 4.8)" in notes[0]
+    vols = [_closed_on_disk(p, tmp_path / f"{k}.stl") for k, p in enumerate(res)]
+    assert vols == pytest.approx([300.0, 300.0], rel=1e-6)  # 60 mm2 signed, 5 mm each side
+
+
+@pytest.mark.parametrize("seed", range(6))
+def test_oblique_cuts_of_self_intersecting_parts_close(seed, tmp_path):
+    rng = np.random.default_rng(seed)
+    for mesh in (samples.figure_eight_prism(10.0), samples.overlapping_cubes()):
+        normal = rng.normal(size=3)
+        lo, hi = mesh.bounds
+        origin = lo + rng.uniform(0.3, 0.7, 3) * (hi - lo)
+        res = cut(mesh, origin, normal)
+        assert res.report.closed
+        total = sum(_closed_on_disk(p, tmp_path / f"{k}.stl") for k, p in enumerate(res) if len(p))
+        assert total == pytest.approx(check(mesh).volume, rel=1e-5)  # float32 files
+
+
 def test_bad_plane_is_a_value_error():
     with pytest.raises(ValueError):
         cut(samples.box(), (0, 0, 0), (0, 0, 0))

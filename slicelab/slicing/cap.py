@@ -63,6 +63,10 @@ class Cap:
         Chains of cut edges that did not close (an open or broken input).
     n_failed : int
         Polygons whose triangulation failed the checks (not capped).
+    notes : tuple of str
+        Loops that are not simple polygons (they cross or touch themselves or
+        each other, as sections of self-intersecting surfaces do), where, and
+        how they were closed anyway.
     """
 
     points: np.ndarray
@@ -71,6 +75,7 @@ class Cap:
     loops: list = field(default_factory=list)
     open_chains: list = field(default_factory=list)
     n_failed: int = 0
+    notes: tuple = ()
 
     @property
     def vertices(self) -> np.ndarray:
@@ -90,7 +95,7 @@ class Cap:
     def reversed(self) -> Cap:
         """The same cap facing the other way (for the partner part)."""
         return Cap(self.points, self.triangles[:, ::-1].copy(), self.edges[:, ::-1].copy(),
-                   [lp[::-1] for lp in self.loops], [c[::-1] for c in self.open_chains], self.n_failed)
+                   [lp[::-1] for lp in self.loops], [c[::-1] for c in self.open_chains], self.n_failed, self.notes)
 
 
 # ------------------------------------------------------------------ cut edges
@@ -285,24 +290,32 @@ def cap_segments(start: np.ndarray, end: np.ndarray, to_2d) -> Cap:
     rings = [r for r in (_drop_repeats(lp, p2, slivers) for lp in loops) if len(r) >= 3]
     areas = np.array([signed_area(p2[r]) for r in rings])
     nonzero = areas != 0
+    # A loop of zero signed area that is not flat (lobes of opposite winding that cancel) still
+    # bounds cut edges: it is closed on its own.
+    crossed = [r for r, z in zip(rings, nonzero) if not z and _spread(p2[r]) > 0]
     rings = [r for r, z in zip(rings, nonzero) if z]
     areas = areas[nonzero]
-    tris, n_failed = _triangulate(rings, areas, p2)
+    tris, n_failed, notes = _triangulate(rings, areas, p2)
+    if crossed:
+        more, why = _close_rings(crossed, p2, together=False)
+        tris, notes = np.concatenate([tris, more]), notes + why
     if slivers:
         tris = np.concatenate([tris, np.array(slivers, dtype=np.int64).reshape(-1, 3)])
-    return Cap(points, tris, edges, loops, open_chains, n_failed)
+    return Cap(points, tris, edges, loops, open_chains, n_failed, tuple(notes))
 
 
-def _triangulate(rings: list, areas: np.ndarray, p2: np.ndarray) -> tuple[np.ndarray, int]:
+def _triangulate(rings: list, areas: np.ndarray, p2: np.ndarray) -> tuple[np.ndarray, int, list]:
     """Constrained Delaunay triangles of rings grouped into polygons with holes.
 
     The rings are point indices: the grouping keeps them (each polygon's
     triangles are checked against its own rings' points), and an exterior
     that had to be reversed (a clockwise loop with no outer loop around it)
-    has its triangles turned back.
+    has its triangles turned back. A polygon GEOS cannot triangulate (a
+    section of a self-intersecting surface) is closed ring by ring
+    (`_close_rings`), and the notes say which loop and where.
     """
     if not rings:
-        return np.zeros((0, 3), np.int64), 0
+        return np.zeros((0, 3), np.int64), 0, []
     import shapely
     _, parent = loop_hierarchy([p2[r] for r in rings])
     groups: dict[int, list] = {}
@@ -317,8 +330,9 @@ def _triangulate(rings: list, areas: np.ndarray, p2: np.ndarray) -> tuple[np.nda
             # wound as it runs, so that the part still closes.
             groups[int(k)] = [rings[k], []]
 
-    polys, ring_sets, flips = [], [], []
+    polys, ring_sets, flips, keys = [], [], [], []
     for key, (ext, holes) in groups.items():  # over polygons
+        keys.append(key)
         flip = areas[key] < 0
         if flip:
             ext = ext[::-1]
@@ -340,7 +354,7 @@ def _triangulate(rings: list, areas: np.ndarray, p2: np.ndarray) -> tuple[np.nda
     ccw = np.where(a2 != 0, a2 > 0, False)
     tri = np.where(ccw[:, None], tri, tri[:, ::-1])
 
-    out, n_failed = [], 0
+    out, n_failed, notes = [], 0, []
     bounds = np.searchsorted(owner, np.arange(len(polys) + 1))
     for g in range(len(polys)):  # over polygons
         t = tri[bounds[g]:bounds[g + 1]]
@@ -350,10 +364,72 @@ def _triangulate(rings: list, areas: np.ndarray, p2: np.ndarray) -> tuple[np.nda
         ok = (len(t) > 0 and ex.all() and np.isin(ring_sets[g], t).all() and np.isin(t, ring_sets[g]).all()
               and abs(got - expected) <= 1e-9 * max(expected, 1e-300) + 1e-12 * got)
         if not ok:
-            n_failed += 1
+            ext, holes = groups[keys[g]]
+            t, why = _close_rings([ext[::-1] if flips[g] else ext, *holes], p2)
+            notes += why
+            out.append(t[:, ::-1] if flips[g] else t)
             continue
         out.append(t[:, ::-1] if flips[g] else t)
-    return (np.concatenate(out) if out else np.zeros((0, 3), np.int64)), n_failed
+    return (np.concatenate(out) if out else np.zeros((0, 3), np.int64)), n_failed, notes
+
+
+def _cdt_ring(ring: np.ndarray, p2: np.ndarray) -> np.ndarray | None:
+    """Constrained Delaunay triangles of one counter-clockwise ring, or None when GEOS fails the checks."""
+    import shapely
+    poly = shapely.Polygon(np.column_stack([p2[ring], ring.astype(np.float64)]))
+    parts = shapely.get_parts(_cdt(np.array([poly], dtype=object))[0])
+    if len(parts) == 0:
+        return None
+    coords = shapely.get_coordinates(parts, include_z=True).reshape(-1, 4, 3)[:, :3]
+    tri = coords[..., 2].astype(np.int64)
+    if not (np.all(tri == coords[..., 2]) and np.isin(ring, tri).all() and np.isin(tri, ring).all()):
+        return None
+    q = p2[tri]
+    a2 = (q[:, 1, 0] - q[:, 0, 0]) * (q[:, 2, 1] - q[:, 0, 1]) - (q[:, 2, 0] - q[:, 0, 0]) * (q[:, 1, 1] - q[:, 0, 1])
+    if abs(float(np.abs(a2).sum()) / 2 - poly.area) > 1e-9 * max(poly.area, 1e-300):
+        return None
+    return np.where((a2 > 0)[:, None], tri, tri[:, ::-1])
+
+
+def _spread(q: np.ndarray) -> float:
+    """Twice the area a fan over the points sweeps, unsigned: zero only for points on a line."""
+    a, b = q[1:-1] - q[0], q[2:] - q[0]
+    return float(np.abs(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]).sum())
+
+
+def _close_rings(rings: list, p2: np.ndarray, together: bool = True) -> tuple[np.ndarray, list]:
+    """Close each ring of a polygon GEOS refused on its own: triangles and notes.
+
+    Each ring is filled as a disk wound as it runs, so that every cut edge is
+    covered once and the part closes whatever the rings do: an exterior's
+    triangles cover its holes, and each hole's triangles, wound the other way,
+    take that area back (the signed areas, and so the part's volume, are
+    exact). A ring GEOS accepts is filled by its constrained Delaunay
+    triangulation; one that crosses itself by a fan from one of its points.
+    """
+    import shapely
+
+    def where(reason: str, r: np.ndarray) -> str:
+        xy = reason.partition("[")[2].rstrip("]").split()
+        x, y = (float(v) for v in xy[:2]) if len(xy) >= 2 else p2[r[0]]
+        return f"({x:.6g}, {y:.6g})"
+
+    out, notes = [], []
+    if together and len(rings) > 1:
+        reason = shapely.is_valid_reason(shapely.Polygon(p2[rings[0]], [p2[h] for h in rings[1:]]))
+        notes.append(f"{len(rings)} loops meet near {where(reason, rings[0])} ({reason.partition('[')[0]}): "
+                     f"each closed on its own, so the cap overlaps itself there")
+    for r in rings:  # the few rings of one polygon
+        ccw = signed_area(p2[r]) >= 0
+        ring = r if ccw else r[::-1]
+        reason = shapely.is_valid_reason(shapely.Polygon(p2[ring]))
+        tri = _cdt_ring(ring, p2) if reason == "Valid Geometry" else None
+        if tri is None:
+            tri = np.stack([np.full(len(ring) - 2, ring[0]), ring[1:-1], ring[2:]], axis=1)
+            notes.append(f"a loop of {len(r)} points crosses itself near {where(reason, r)}: "
+                         f"closed by a fan of triangles, which overlaps itself there")
+        out.append(tri if ccw else tri[:, ::-1])
+    return np.concatenate(out), notes
 
 
 def _cdt(polys: np.ndarray) -> np.ndarray:

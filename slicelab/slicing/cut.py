@@ -88,6 +88,7 @@ class CutReport:
                 parts.append(f"{name}: {len(cap.open_chains)} open chains not capped")
             if cap.n_failed:
                 parts.append(f"{name}: {cap.n_failed} polygons not triangulated")
+            parts += [f"{name}: {note}" for note in cap.notes]
         return "; ".join(parts)
 
 
