@@ -113,7 +113,7 @@ def main(argv=None) -> int:
     tmp = Path(tempfile.mkdtemp(prefix="bench_slice_"))
     ours = tmp / "slicelab.gcode"
     cmd = [sys.executable, "-m", "slicelab", "slice", str(args.mesh), "-o", str(ours), "--layer-height", str(LAYER),
-           "--line-width", str(WIDTH), "--perimeters", str(PERIMETERS), "--infill", str(INFILL),
+           "--line-width", str(WIDTH), "--perimeters", str(PERIMETERS), "--infill-density", str(INFILL),
            "--top-layers", str(SOLID), "--bottom-layers", str(SOLID), "--pixel-size", str(args.pixel_size)]
     if args.workers:
         cmd += ["--workers", str(args.workers)]

@@ -43,7 +43,7 @@ _LAZY = {
     "stair_cut": "slicing.stair", "StairCut": "slicing.stair", "StairCutError": "slicing.stair",
     "align": "artefacts.axis", "Alignment": "artefacts.axis", "profile": "artefacts.profiles",
     "Profile": "artefacts.profiles", "Measurements": "artefacts.measure",
-    "run_batch": "tasks.batch",
+    "run_batch": "tasks",
     "rasterize": "toolpath.raster", "LayerRaster": "toolpath.raster", "GridMask": "toolpath.raster",
     "raster_hierarchy": "toolpath.raster",
     "layer_perimeters": "toolpath.perimeters", "Perimeters": "toolpath.perimeters",

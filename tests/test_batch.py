@@ -1,18 +1,22 @@
-"""Batch runs: statuses and reasons, no lost report, resumable reruns; pool and Dask give the same summary."""
+"""Batch runs: statuses and reasons, no lost report, resumable reruns; pool and Dask give the same summary;
+the command line and a batch write the same files for the same job."""
 import csv
 import hashlib
+import importlib.util
 import json
 import os
 import sys
 import xml.etree.ElementTree as ET
+from pathlib import Path
 
 import numpy as np
 import pytest
 
 import slicelab
 from slicelab import Mesh, samples
-from slicelab.tasks.batch import find_stl_files, run_batch, task_parameters
 from slicelab.cli import main
+from slicelab.tasks import ParameterError, batch, run_jobs
+from slicelab.tasks.batch import find_stl_files, run_batch, task_parameters
 
 EXPECTED = {  # file -> (status, reason codes) for the profile task
     "pot.stl": ("ok", []),
@@ -62,6 +66,13 @@ def folder(tmp_path_factory):
     return d
 
 
+def output_files(rep):
+    files = []
+    for v in rep["outputs"].values():
+        files += v if isinstance(v, list) else [v]
+    return files
+
+
 def read_summary(out):
     with open(out / "summary.csv", newline="") as fh:
         return list(csv.DictReader(fh))
@@ -92,9 +103,10 @@ def test_profile_batch_statuses_reasons_and_reports(folder, profile_run):
         assert rep["status"] == status and rep["task"] == "profile" and rep["parameters"] == params
         assert rep["input"]["sha256"] == hashlib.sha256((folder / rel).read_bytes()).hexdigest()
         assert rep["timings"]["total"] >= 0 and all(r["message"] for r in rep["reasons"])
-        for path in rep["outputs"].values():
+        for path in output_files(rep):
             assert (out / path).exists()
         if status != "fail":
+            assert {Path(p).parent for p in output_files(rep)} == {Path(rel).with_suffix("")}
             root = ET.parse(out / rep["outputs"]["svg"]).getroot()
             assert {g.get("id") for g in root.iter("{http://www.w3.org/2000/svg}g")} >= {"section", "axis"}
     pot = json.loads((out / "pot.stl.json").read_text())["results"]
@@ -119,7 +131,7 @@ def test_rerun_skips_finished_files_and_resumes(folder, tmp_path):
     assert read_summary(out) == summary
     # Interrupted runs: a missing report, a missing output, a changed input are redone, nothing else.
     (out / "cube.stl.json").unlink()
-    (out / "pot.section.svg").unlink()
+    (out / "pot" / "section.svg").unlink()
     slicelab.save(samples.box((0, 0, 0), (30, 20, 20)), tmp_path / "box.stl")
     bowl = folder / "vessels" / "bowl.stl"
     original = bowl.read_bytes()
@@ -226,6 +238,7 @@ def test_cli_batch(folder, tmp_path, capsys):
     assert main(["batch", str(folder), "-o", str(out), "--task", "profile", "--z", "3"]) == 2
     assert main(["batch", str(tmp_path / "missing"), "-o", str(out), "--task", "inspect"]) == 2
     assert main(["batch", str(folder), "-o", str(out), "--task", "inspect", "--workers", "0"]) == 2
+    assert main(["batch", str(folder), "-o", str(out), "--task", "section", "--planes", "3"]) == 2
     assert "error" in capsys.readouterr().err
 
 
@@ -238,3 +251,51 @@ def test_bad_parameters():
         task_parameters("layers")
     with pytest.raises(ValueError):
         task_parameters("profile", side="middle")
+
+
+def test_bad_parameters_name_the_parameter():
+    for task, options, name in [("layers", {}, "layer_height"), ("profile", {"planes": 0}, "planes"),
+                                ("section", {"max_gap": -1}, "max_gap"), ("split", {"visible_from": (0, 0, 0)},
+                                                                          "visible_from"),
+                                ("section", {"planes": 3}, "planes"), ("profile", {"origin": (0, 0, 0),
+                                                                                   "normal": (0, 0, 1)}, "plane"),
+                                ("inspect", {"min_size": 10, "max_size": 1}, "min_size")]:
+        with pytest.raises(ParameterError) as err:
+            task_parameters(task, **options)
+        assert err.value.name == name and str(err.value).startswith(name)
+    params = task_parameters("split", origin=(0, 0, 1), normal=(0, 0, 1), preview=False)
+    assert task_parameters("split", **params) == params  # checking is idempotent
+
+
+@pytest.mark.parametrize("job, cli_args, options", [
+    ("split", ["--z", "40"], {"origin": (0, 0, 40), "normal": (0, 0, 1)}),
+    ("layers", ["--layer-height", "20"], {"layer_height": 20}),
+])
+def test_cli_and_batch_write_the_same_files(tmp_path, job, cli_args, options):
+    scans = tmp_path / "scans"
+    slicelab.save(samples.pot(30, 36), scans / "pot.stl")
+    assert main([job, str(scans / "pot.stl"), *cli_args, "-o", str(tmp_path / "cli")]) == 0
+    result = run_batch(scans, tmp_path / "batch", job, task_parameters(job, **options), workers=1, progress=False)
+    assert result.count("ok") == 1
+    cli, bat = tmp_path / "cli", tmp_path / "batch" / "pot"
+    names = sorted(p.name for p in cli.iterdir())
+    assert names == sorted(p.name for p in bat.iterdir()) and len(names) >= 3
+    assert sorted(Path(p).name for p in output_files(result.reports[0])) == names
+    for name in names:
+        if name.endswith((".svg", ".json")):
+            assert (cli / name).read_bytes() == (bat / name).read_bytes(), name
+        elif name.endswith(".stl"):
+            assert np.array_equal(slicelab.load(cli / name).triangles, slicelab.load(bat / name).triangles)
+
+
+def test_forkserver_preload_names_modules_that_exist():
+    for name in batch._PRELOAD:
+        assert importlib.util.find_spec(name) is not None, name
+
+
+def test_run_jobs_reports_jobs_whose_process_died():
+    """os._exit kills the worker: the pool breaks, each job is retried alone, then reported lost."""
+    done = []
+    run_jobs(os._exit, [(3,), (4,)], workers=2, on_done=lambda job, r, lost: done.append((job, r, lost)))
+    assert sorted(job for job, _, _ in done) == [(3,), (4,)]
+    assert all(r is None and "__main__" in lost for _, r, lost in done)

@@ -7,7 +7,7 @@ import xml.etree.ElementTree as ET
 import pytest
 
 import slicelab
-from slicelab.cli import COMMANDS, main
+from slicelab.cli import COMMANDS, build_parser, main
 
 
 def run(*args):
@@ -71,3 +71,31 @@ def test_bad_arguments_exit_2_with_one_line(data_dir, tmp_path, args, message):
     r = run(*[a.format(f=data_dir / "torus.stl", o=tmp_path / "out") for a in args])
     assert r.returncode == 2 and message in r.stderr and "Traceback" not in r.stderr
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("text", ["20", "20%", "0.2"])
+def test_infill_density_takes_a_percentage_or_a_fraction(text):
+    args = build_parser().parse_args(["slice", "part.stl", "-o", "part.gcode", "--infill-density", text])
+    assert args.infill_density == pytest.approx(0.2)
+
+
+def test_help_says_a_bare_number_up_to_1_is_a_fraction(capsys):
+    with pytest.raises(SystemExit):
+        main(["slice", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert "--infill-density" in text and "a bare number up to 1 a fraction" in text
+
+
+def test_a_bad_job_parameter_is_named_by_its_flag(data_dir, tmp_path):
+    r = run("profile", data_dir / "pot.stl", "-o", tmp_path / "p.svg", "--planes", "0")
+    assert r.returncode == 2 and r.stderr.count("\n") == 1
+    assert r.stderr.startswith("slicelab: error: --planes must be a whole number >= 1")
+    r = run("slice", data_dir / "cube_with_hole.stl", "-o", tmp_path / "c.gcode", "--perimeters", "-1")
+    assert r.returncode == 2 and "--perimeters must be" in r.stderr and "Traceback" not in r.stderr
+    assert not (tmp_path / "c.gcode").exists()
+
+
+def test_layers_without_svgs(data_dir, tmp_path):
+    assert main(["layers", str(data_dir / "cube_with_hole.stl"), "--layer-height", "5", "-o", str(tmp_path),
+                 "--no-svg"]) == 0
+    assert [p.name for p in tmp_path.iterdir()] == ["layers.json"]

@@ -222,12 +222,12 @@ def test_cli_slice(tmp_path, data_dir):
     out = tmp_path / "c.gcode"
     r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(data_dir / "cube_with_hole.stl"), "-o",
                         str(out), "--layer-height", "2", "--pixel-size", "0.2", "--workers", "1",
-                        "--infill", "15", "--preview", str(tmp_path / "prev")],
+                        "--infill-density", "15%", "--preview", str(tmp_path / "prev")],
                        capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     assert out.read_text().count(";LAYER_CHANGE") == 10
     assert (tmp_path / "prev" / "preview.png").exists()
-    for bad in (["--infill", "120"], ["--perimeters", "-1"], ["--workers", "0"]):
+    for bad in (["--infill-density", "120"], ["--perimeters", "-1"], ["--workers", "0"]):
         r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(data_dir / "cube_with_hole.stl"),
                             "-o", str(out), *bad], capture_output=True, text=True)
         assert r.returncode == 2 and r.stderr.count("\n") == 1 and "Traceback" not in r.stderr

@@ -1,12 +1,15 @@
-"""Batch runs: one task over every STL under a folder, locally or on a Dask cluster.
+"""Batch runs: one job over every STL under a folder, locally or on a Dask cluster.
 
 Every file gets a JSON report (input SHA-256, parameters, outputs, timings,
-status ok / warn / fail and the reasons) written next to its outputs, and a
-row in ``summary.csv``. A broken file fails alone; the batch carries on. A file
-whose report is up to date (same content, task, parameters and slicelab
-version, outputs present) is skipped, so an interrupted batch resumes where it
-stopped. Files run on a local process pool, or on a Dask distributed cluster
-given its scheduler address (the optional extra ``slicelab[cluster]``): a lab
+status ok / warn / fail and the reasons) and a row in ``summary.csv``; its
+outputs go to a folder of their own named after it, under the job's own file
+names (the same as on the command line: ``pot.stl`` -> ``OUT/pot.stl.json``
+and ``OUT/pot/section.svg``). A broken file fails alone; the batch carries
+on. A file whose report is up to date (same content, job, parameters and
+slicelab version, outputs present) is skipped, so an interrupted batch
+resumes where it stopped. Files run on a local process pool, or on a Dask
+distributed cluster given its scheduler address (the optional extra
+``slicelab[cluster]``), through `slicelab.tasks.executors.run_jobs`: a lab
 that outgrows one machine adds workers, not tools. Workers must see DIR and
 OUT at the same paths (a shared file system); they write the outputs, the
 client writes the reports, so a worker lost mid-file still leaves a report.
@@ -17,7 +20,6 @@ import csv
 import fnmatch
 import hashlib
 import json
-import math
 import os
 import socket
 import sys
@@ -31,6 +33,9 @@ import numpy as np
 from .. import __version__
 from ..export.files import atomic_open
 from ..mesh.io import MeshFileError
+from .executors import run_jobs
+from .jobs import JOBS, job_parameters, run_job
+from .spec import ParameterError, number, plain, reason
 
 __all__ = ["TASKS", "BatchResult", "task_parameters", "find_stl_files", "process_file", "run_batch",
            "write_summary"]
@@ -38,25 +43,12 @@ __all__ = ["TASKS", "BatchResult", "task_parameters", "find_stl_files", "process
 TASKS = ("inspect", "section", "split", "profile", "layers")
 STATUSES = ("ok", "warn", "fail")
 _FAILING = {"unreadable", "task_error", "task_unavailable", "worker_lost"}
-_SUMMARY_TASK_COLUMNS = {
-    "inspect": [],
-    "section": ["area", "loops", "holes", "open_chains"],
-    "split": ["front_facets", "rear_facets", "cut_facets", "section_area"],
-    "profile": ["height", "rim_diameter", "max_diameter", "base_diameter", "wall_thickness_min",
-                "wall_thickness_mean", "wall_thickness_max", "base_thickness", "capacity", "clay_volume",
-                "relative_residual", "spread"],
-    "layers": ["layers", "loops", "open_chains"],
-}
+_BATCH = ("min_size", "max_size")  # parameters of the batch itself, beside the job's
 
 
-class TaskUnavailable(RuntimeError):
-    """A task whose implementation is not installed (reported, never raised out of a batch)."""
-
-
-def task_parameters(task: str, *, origin=None, normal=None, layer_height=None, planes: int = 12,
-                    side: str = "left", max_gap: float = 1.0, png: bool = True, min_size: float = 2.0,
-                    max_size: float = 5000.0) -> dict:
-    """Check and normalise a task's parameters into plain JSON values.
+def task_parameters(task: str, *, origin=None, normal=None, min_size: float = 2.0, max_size: float = 5000.0,
+                    **options) -> dict:
+    """Check and normalise a batch's parameters into plain JSON values.
 
     The result is stored in every report and compared on reruns: a report
     made with other parameters is not up to date.
@@ -67,51 +59,40 @@ def task_parameters(task: str, *, origin=None, normal=None, layer_height=None, p
     origin, normal : 3 floats, optional
         The plane of ``section`` and ``split``; without them, the horizontal
         plane at each part's mid-height.
-    layer_height : float
-        Required by ``layers``.
-    planes, side, png
-        ``profile``: planes through the axis, side of the drawn section, also write a PNG.
-    max_gap : float
-        Open chains closer than this are joined (mm).
     min_size, max_size : float
-        A part whose largest dimension lies outside is flagged "implausible size" (units?).
+        A part whose largest dimension (mm) lies outside is flagged
+        "implausible size" (wrong units?).
+    **options
+        The job's parameters (`slicelab.tasks.jobs.job_parameters`), such as
+        ``layer_height`` for ``layers`` or ``planes``, ``side``, ``png`` for ``profile``.
+
+    Raises
+    ------
+    ParameterError
+        A ValueError naming the bad parameter.
 
     Examples
     --------
     >>> task_parameters("section", origin=(0, 0, 5), normal=(0, 0, 2))["plane"]
     {'origin': [0.0, 0.0, 5.0], 'normal': [0.0, 0.0, 2.0]}
+    >>> task_parameters("layers")
+    Traceback (most recent call last):
+    ...
+    slicelab.tasks.spec.ParameterError: layer_height is required (a positive number, mm)
     """
     if task not in TASKS:
         raise ValueError(f"unknown task {task!r}; choose one of {', '.join(TASKS)}")
-    p: dict = {"min_size": float(min_size), "max_size": float(max_size)}
-    if not (0 <= p["min_size"] < p["max_size"]):
-        raise ValueError("min_size must be >= 0 and below max_size")
-    if task in ("section", "split", "layers", "profile"):
-        if not (max_gap >= 0 and math.isfinite(max_gap)):
-            raise ValueError(f"max_gap must be a non-negative number, got {max_gap!r}")
-        p["max_gap"] = float(max_gap)
-    if task in ("section", "split"):
+    p = {"min_size": number("min_size", min_size, low=0), "max_size": number("max_size", max_size)}
+    if not p["min_size"] < p["max_size"]:
+        raise ParameterError("min_size", "must be >= 0 and below max_size")
+    if origin is not None or normal is not None:
         if (origin is None) != (normal is None):
-            raise ValueError("give both origin and normal, or neither (mid-height horizontal plane)")
-        if origin is None:
-            p["plane"] = None
-        else:
-            o = [float(v) for v in np.asarray(origin, float).reshape(3)]
-            n = [float(v) for v in np.asarray(normal, float).reshape(3)]
-            if not (np.all(np.isfinite(o)) and np.all(np.isfinite(n)) and any(n)):
-                raise ValueError("the plane needs a finite origin and a non-zero normal")
-            p["plane"] = {"origin": o, "normal": n}
-    if task == "layers":
-        if layer_height is None or not (float(layer_height) > 0 and math.isfinite(float(layer_height))):
-            raise ValueError("the layers task needs a positive layer height")
-        p["layer_height"] = float(layer_height)
-    if task == "profile":
-        if int(planes) < 1:
-            raise ValueError(f"planes must be at least 1, got {planes!r}")
-        if side not in ("left", "right"):
-            raise ValueError(f"side must be 'left' or 'right', got {side!r}")
-        p.update(planes=int(planes), side=side, png=bool(png))
-    return json.loads(json.dumps(p))
+            raise ParameterError("origin", "and normal go together: give both, or neither "
+                                           "(the horizontal plane at mid-height)")
+        options["plane"] = (origin, normal)
+    if "plane" in options and "plane" not in JOBS[task].defaults:
+        raise ParameterError("plane", f"is not a parameter of the {task} task")
+    return {**p, **job_parameters(task, **options)}
 
 
 def find_stl_files(root, exclude=None, patterns=()) -> tuple[list[Path], int]:
@@ -161,10 +142,6 @@ def _now() -> str:
     return datetime.now(timezone.utc).isoformat(timespec="milliseconds")
 
 
-def _reason(code: str, message: str) -> dict:
-    return {"code": code, "message": message}
-
-
 def _status(reasons) -> str:
     if any(r["code"] in _FAILING for r in reasons):
         return "fail"
@@ -177,140 +154,38 @@ def _paths(out: Path, rel: str) -> tuple[Path, Path]:
     return out / r.parent / f"{r.name}.json", out / r.parent / Path(r.name).stem
 
 
+def _paths(out: Path, rel: str) -> tuple[Path, Path]:
+    """The report's path and the folder of a file's outputs, mirroring its place under DIR."""
+    r = Path(rel)
+    return out / r.parent / f"{r.name}.json", out / r.parent / Path(r.name).stem
+
+
+def _now() -> str:
+    return datetime.now(timezone.utc).isoformat(timespec="milliseconds")
+
+
 def _mesh_reasons(report, params) -> list[dict]:
     reasons = []
     if not report.watertight:
-        reasons.append(_reason("not_watertight", f"not watertight ({report.n_open_edges} open edges, "
+        reasons.append(reason("not_watertight", f"not watertight ({report.n_open_edges} open edges, "
                                                  f"{report.n_nonmanifold_edges} non-manifold edges)"))
     if report.n_shells > 1:
-        reasons.append(_reason("several_shells", f"several shells ({report.n_shells})"))
+        reasons.append(reason("several_shells", f"several shells ({report.n_shells})"))
     lo, hi = np.asarray(report.bounds, float)
     size = float((hi - lo).max())
     if not (params["min_size"] <= size <= params["max_size"]):
-        reasons.append(_reason("implausible_size", f"implausible size: largest dimension {size:.6g} mm, "
+        reasons.append(reason("implausible_size", f"implausible size: largest dimension {size:.6g} mm, "
                                                    f"expected {params['min_size']:g} to {params['max_size']:g} mm "
                                                    f"(wrong units?)"))
     return reasons
 
 
-def _plane(mesh, params):
-    if params.get("plane"):
-        return np.array(params["plane"]["origin"]), np.array(params["plane"]["normal"])
-    z = mesh.triangles[..., 2]
-    return np.array([0.0, 0.0, (float(z.min()) + float(z.max())) / 2]), np.array([0.0, 0.0, 1.0])
-
-
-def _rel(out: Path, p: Path) -> str:
-    return p.relative_to(out).as_posix()
-
-
-# ----------------------------------------------------------------------- tasks
-# Each task: (mesh, check report, output stem, out folder, params) -> (outputs, results, reasons).
-def _task_inspect(mesh, report, stem, out, params):
-    return {}, {}, []
-
-
-def _task_section(mesh, report, stem, out, params):
-    from ..slicing.sections import section
-    origin, normal = _plane(mesh, params)
-    s = section(mesh, origin, normal, max_gap=params["max_gap"])
-    svg = stem.with_name(stem.name + ".section.svg")
-    s.to_svg(svg)
-    holes = int(np.count_nonzero(s.loop_depth % 2 == 1)) if len(s.loops) else 0
-    results = {"plane": {"origin": origin.tolist(), "normal": normal.tolist()}, "area": s.area,
-               "loops": len(s.loops), "holes": holes, "open_chains": len(s.open_chains),
-               "joined_gaps": len(s.joined_gaps)}
-    reasons = []
-    if s.open_chains:
-        reasons.append(_reason("open_section", f"the section has {len(s.open_chains)} open chains"))
-    return {"svg": _rel(out, svg)}, results, reasons
-
-
-def _task_split(mesh, report, stem, out, params):
-    from ..mesh.io import save
-    from ..slicing.split import split
-    origin, normal = _plane(mesh, params)
-    sp = split(mesh, origin, normal, max_gap=params["max_gap"])
-    outputs = {}
-    for side in ("front", "rear"):
-        piece = getattr(sp, side)
-        if len(piece):
-            path = stem.with_name(f"{stem.name}.{side}.stl")
-            save(piece, path)
-            outputs[side] = _rel(out, path)
-    svg = stem.with_name(stem.name + ".section.svg")
-    sp.section.to_svg(svg)
-    outputs["svg"] = _rel(out, svg)
-    results = {"plane": {"origin": origin.tolist(), "normal": normal.tolist()},
-               "front_facets": len(sp.front), "rear_facets": len(sp.rear),
-               "cut_facets": int(getattr(sp, "n_cut", -1)), "section_area": sp.section.area,
-               "section_loops": len(sp.section.loops), "section_open_chains": len(sp.section.open_chains)}
-    return outputs, results, []
-
-
-def _task_profile(mesh, report, stem, out, params):
-    from ..artefacts.profiles import profile
-    p = profile(mesh, planes=params["planes"], max_gap=params["max_gap"], name=stem.name)
-    svg = stem.with_name(stem.name + ".profile.svg")
-    p.to_svg(svg, side=params["side"])
-    outputs = {"svg": _rel(out, svg)}
-    if params["png"]:
-        png = stem.with_name(stem.name + ".profile.png")
-        p.to_png(png, side=params["side"])
-        outputs["png"] = _rel(out, png)
-    data = stem.with_name(stem.name + ".profile.json")
-    with atomic_open(data, "w", encoding="utf-8") as fh:
-        json.dump(p.to_dict(), fh)
-    outputs["json"] = _rel(out, data)
-    a = p.alignment
-    results = {**p.measurements.to_dict(), "relative_residual": a.relative_residual,
-               "up_from": a.up_from, "axis": a.axis.tolist(), "origin": a.origin.tolist()}
-    reasons = []
-    if not p.is_revolution:
-        reasons.append(_reason("not_revolution", f"not a solid of revolution: horizontal sections stray "
-                                                 f"{a.residual:.3g} mm RMS ({100 * a.relative_residual:.3g} % "
-                                                 f"of the radius) from circles about the best axis; "
-                                                 f"half-sections differ by up to {p.measurements.spread:.3g} mm"))
-    return outputs, results, reasons
-
-
-def _task_layers(mesh, report, stem, out, params):
-    from ..slicing.sections import slice_layers
-    layers = slice_layers(mesh, params["layer_height"], max_gap=params["max_gap"])
-    path = stem.with_name(stem.name + ".layers.json")
-    with atomic_open(path, "w", encoding="utf-8") as fh:
-        json.dump({"layer_height": params["layer_height"],
-                   "layers": [{"index": k, "z": s.z, **s.to_dict()} for k, s in enumerate(layers)]}, fh)
-    n_open = sum(len(s.open_chains) for s in layers)
-    results = {"layers": len(layers), "loops": sum(len(s.loops) for s in layers), "open_chains": n_open}
-    reasons = [_reason("open_section", f"{n_open} open chains over the layers")] if n_open else []
-    return {"json": _rel(out, path)}, results, reasons
-
-
-_TASK_FUNCTIONS = {"inspect": _task_inspect, "section": _task_section, "split": _task_split,
-                   "profile": _task_profile, "layers": _task_layers}
-
-
-def _jsonable(x):
-    if isinstance(x, dict):
-        return {k: _jsonable(v) for k, v in x.items()}
-    if isinstance(x, (list, tuple)):
-        return [_jsonable(v) for v in x]
-    if isinstance(x, (np.floating, float)):
-        x = float(x)
-        return x if math.isfinite(x) else None  # JSON has no NaN
-    if isinstance(x, np.integer):
-        return int(x)
-    if isinstance(x, np.bool_):
-        return bool(x)
-    return x
-
-
 def process_file(path, root, out, task: str, params: dict) -> dict:
-    """Run one task on one file and return its report (never raises for a bad file).
+    """Run one job on one file and return its report (never raises for a bad file).
 
-    Writes the task's outputs under `out` (mirroring the file's place under
-    `root`); the report itself is returned, for the caller to write.
+    Writes the job's outputs under `out` (in a folder named after the file,
+    mirroring its place under `root`); the report itself is returned, for
+    the caller to write.
 
     Examples
     --------
@@ -321,12 +196,11 @@ def process_file(path, root, out, task: str, params: dict) -> dict:
     >>> r["status"], r["reasons"][0]["code"]
     ('fail', 'unreadable')
     """
-    from ..mesh.io import load
-    from ..mesh.validation import check
+    from ..mesh import check, load
     t_start = time.perf_counter()
     path, root, out = Path(path), Path(root), Path(out)
     rel = path.relative_to(root).as_posix()
-    report_path, stem = _paths(out, rel)
+    _, folder = _paths(out, rel)
     rep = {"slicelab": __version__, "file": rel, "path": str(path.resolve()), "task": task,
            "parameters": params, "status": "fail", "reasons": [], "input": {}, "check": None,
            "results": {}, "outputs": {}, "timings": {}, "worker": f"{socket.gethostname()}:{os.getpid()}",
@@ -344,31 +218,31 @@ def process_file(path, root, out, task: str, params: dict) -> dict:
         timings.update(hash=t1 - t0, load=t2 - t1, check=t3 - t2)
         rep["check"] = report.to_dict()
         reasons += _mesh_reasons(report, params)
-        stem.parent.mkdir(parents=True, exist_ok=True)
-        outputs, results, more = _TASK_FUNCTIONS[task](mesh, report, stem, out, params)
+        job_params = {k: v for k, v in params.items() if k not in _BATCH}
+        result = run_job(task, path, job_params, folder, mesh=mesh, check=report)
         timings["task"] = time.perf_counter() - t3
-        rep["outputs"], rep["results"] = outputs, results
-        reasons += more
+        rep["outputs"], rep["results"] = result.relative_outputs(out), result.results
+        reasons += result.reasons
     except MeshFileError as exc:
-        reasons.append(_reason("unreadable", exc.reason))
+        reasons.append(reason("unreadable", exc.reason))
     except OSError as exc:
-        reasons.append(_reason("unreadable", f"cannot be read ({exc.strerror or exc})"))
-    except TaskUnavailable as exc:
-        reasons.append(_reason("task_unavailable", str(exc)))
+        reasons.append(reason("unreadable", f"cannot be read ({exc.strerror or exc})"))
+    except ImportError as exc:  # an optional dependency of the job is missing
+        reasons.append(reason("task_unavailable", f"{task} needs {exc.name or exc}: not installed"))
     except Exception as exc:  # noqa: BLE001 - one bad file must not stop the batch
         msg = str(exc).splitlines()[0] if str(exc) else ""
-        reasons.append(_reason("task_error", f"{task} failed: {type(exc).__name__}: {msg}".rstrip(": ")))
+        reasons.append(reason("task_error", f"{task} failed: {type(exc).__name__}: {msg}".rstrip(": ")))
     rep["status"] = _status(reasons)
     timings["total"] = time.perf_counter() - t_start
     rep["finished"] = _now()
-    return _jsonable(rep)
+    return plain(rep)
 
 
 def _lost_report(path: Path, root: Path, task: str, params: dict, why: str) -> dict:
     """The report of a file whose worker died: written by the client, retried on the next run."""
     rel = path.relative_to(root).as_posix()
     return {"slicelab": __version__, "file": rel, "path": str(path.resolve()), "task": task,
-            "parameters": params, "status": "fail", "reasons": [_reason("worker_lost", why)],
+            "parameters": params, "status": "fail", "reasons": [reason("worker_lost", why)],
             "transient": True, "input": {}, "check": None, "results": {}, "outputs": {}, "timings": {},
             "started": _now(), "finished": _now()}
 
@@ -413,6 +287,53 @@ def _fmt(v) -> str:
     return str(v)
 
 
+def _output_files(outputs: dict) -> list[str]:
+    files = []
+    for v in outputs.values():
+        files += v if isinstance(v, list) else [v]
+    return files
+
+
+def _up_to_date(report_path: Path, path: Path, out: Path, task: str, params: dict, retry_failed: bool):
+    try:
+        rep = json.loads(report_path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None
+    if (rep.get("slicelab") != __version__ or rep.get("task") != task or rep.get("parameters") != params
+            or rep.get("transient") or rep.get("status") not in STATUSES
+            or (retry_failed and rep.get("status") == "fail")):
+        return None
+    try:
+        st = path.stat()
+    except OSError:
+        return None
+    inp = rep.get("input") or {}
+    if inp.get("size") != st.st_size:
+        return None
+    if inp.get("mtime_ns") != st.st_mtime_ns and inp.get("sha256") != _sha256(path):
+        return None
+    if not all((out / o).exists() for o in _output_files(rep.get("outputs") or {})):
+        return None
+    return rep
+
+
+def _write_report(out: Path, rep: dict) -> None:
+    report_path, _ = _paths(out, rep["file"])
+    with atomic_open(report_path, "w", encoding="utf-8") as fh:
+        json.dump(rep, fh, indent=1, allow_nan=False)
+        fh.write("\n")
+
+
+def _fmt(v) -> str:
+    if v is None:
+        return ""
+    if isinstance(v, bool):
+        return "yes" if v else "no"
+    if isinstance(v, float):
+        return f"{v:.10g}"
+    return str(v)
+
+
 def write_summary(out, reports: list[dict], task: str) -> Path:
     """Write ``summary.csv``: one row per file, in file order, no timings (reruns give the same file).
 
@@ -424,7 +345,7 @@ def write_summary(out, reports: list[dict], task: str) -> Path:
     ['file', 'status', 'reasons']
     """
     cols = ["file", "status", "reasons", "messages", "sha256", "facets", "watertight", "shells",
-            "size_x", "size_y", "size_z", "volume", *_SUMMARY_TASK_COLUMNS[task], "report"]
+            "size_x", "size_y", "size_z", "volume", *JOBS[task].columns, "report"]
     path = Path(out) / "summary.csv"
     with atomic_open(path, "w", encoding="utf-8", newline="") as fh:
         w = csv.writer(fh)
@@ -441,7 +362,7 @@ def write_summary(out, reports: list[dict], task: str) -> Path:
                    "watertight": chk.get("watertight"), "shells": chk.get("n_shells"),
                    "size_x": size[0], "size_y": size[1], "size_z": size[2], "volume": chk.get("volume"),
                    "report": _paths(Path("."), rep["file"])[0].as_posix()}
-            row.update({c: res.get(c) for c in _SUMMARY_TASK_COLUMNS[task]})
+            row.update({c: res.get(c) for c in JOBS[task].columns})
             w.writerow([_fmt(row[c]) for c in cols])
     return path
 
@@ -479,85 +400,11 @@ class BatchResult:
                 f"{self.ignored} other files ignored) in {self.seconds:.1f} s")
 
 
-_PRELOAD = ["slicelab.tasks.batch", "slicelab.artefacts.profiles", "slicelab.artefacts.drawing",
-            "slicelab.mesh.validation", "slicelab.slicing.sections", "scipy.spatial", "matplotlib.figure", "matplotlib.backends.backend_agg"]
-
-
-def _pool_context():
-    """Worker processes forked from a server that has imported slicelab once (forkserver).
-
-    Not a fork of this process, which may run threads (tqdm, BLAS); not a
-    spawn, which would import numpy, scipy and matplotlib again in every
-    worker of every batch and re-run an unguarded __main__.
-    """
-    import multiprocessing
-    try:
-        ctx = multiprocessing.get_context("forkserver")
-    except ValueError:  # no forkserver on this platform (Windows)
-        return multiprocessing.get_context("spawn")
-    ctx.set_forkserver_preload(_PRELOAD)
-    return ctx
-
-
-def _run_local(jobs, workers: int, on_done):
-    """A process pool; a crash is retried alone, so it costs only its own file."""
-    from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-    from concurrent.futures.process import BrokenProcessPool
-    ctx = _pool_context()
-    queue = list(reversed(jobs))
-    suspects = []
-    while queue:
-        with ProcessPoolExecutor(max_workers=workers, mp_context=ctx) as pool:
-            running = {}
-            try:
-                while queue or running:
-                    while queue and len(running) < 2 * workers:  # a short queue: a crash loses little
-                        job = queue.pop()
-                        try:
-                            fut = pool.submit(process_file, *job)
-                        except BrokenProcessPool:
-                            queue.append(job)  # never submitted: it goes to the next pool, not astray
-                            raise
-                        running[fut] = job
-                    done, _ = wait(running, return_when=FIRST_COMPLETED)
-                    for fut in done:
-                        job = running.pop(fut)
-                        try:
-                            rep = fut.result()
-                        except BrokenProcessPool:
-                            suspects.append(job)
-                            raise
-                        on_done(job, rep)
-            except BrokenProcessPool:
-                suspects += list(running.values())
-    for job in suspects:  # one at a time, in a fresh process each
-        with ProcessPoolExecutor(max_workers=1, mp_context=ctx) as pool:
-            try:
-                on_done(job, pool.submit(process_file, *job).result())
-            except BrokenProcessPool:
-                on_done(job, None)
-
-
-def _run_dask(jobs, scheduler: str, on_done):
-    try:
-        from distributed import Client, as_completed
-    except ImportError:
-        raise ValueError("--scheduler needs Dask: pip install 'slicelab[cluster]'") from None
-    client = Client(scheduler, timeout="30s", set_as_default=False)
-    try:
-        futures = {client.submit(process_file, *job, pure=False,
-                                 key=f"slicelab-{job[3]}-{k}-{time.time_ns()}"): job
-                   for k, job in enumerate(jobs)}
-        for fut in as_completed(list(futures), loop=client.loop):
-            job = futures[fut]
-            try:
-                rep = fut.result()
-            except Exception as exc:  # noqa: BLE001 - a lost worker is reported, the batch goes on
-                rep = None
-                job = (*job, f"the cluster lost this file: {type(exc).__name__}: {exc}")
-            on_done(job, rep)
-    finally:
-        client.close()
+# Modules the local worker processes import once, before they are forked: the batch, the
+# jobs' libraries (mesh and slicing load whole; artefacts loads by name) and their drawing.
+_PRELOAD = ["slicelab.tasks.batch", "slicelab.mesh", "slicelab.slicing", "slicelab.artefacts.profiles",
+            "slicelab.artefacts.drawing", "slicelab.viz.profile", "slicelab.viz.preview", "scipy.spatial",
+            "matplotlib.figure", "matplotlib.backends.backend_agg"]
 
 
 def run_batch(root, out, task: str = "inspect", params: dict | None = None, *, workers: int | None = None,
@@ -570,11 +417,12 @@ def run_batch(root, out, task: str = "inspect", params: dict | None = None, *, w
     root : path
         Folder searched recursively for ``*.stl``.
     out : path
-        Output folder: per file ``<name>.stl.json`` (the report) and the
-        task's outputs, mirroring the tree under `root`; ``summary.csv``.
+        Output folder, mirroring the tree under `root`: per file
+        ``<name>.stl.json`` (the report) and a folder ``<name>/`` of the job's
+        outputs (the same file names as on the command line); ``summary.csv``.
     task : {"inspect", "section", "split", "profile", "layers"}
     params : dict, optional
-        From `task_parameters` (defaults for `task` if omitted).
+        From `task_parameters` (checked again here; defaults for `task` if omitted).
     workers : int, optional
         Local processes (default: CPU count); 1 runs in this process.
     scheduler : str, optional
@@ -607,9 +455,7 @@ def run_batch(root, out, task: str = "inspect", params: dict | None = None, *, w
     root, out = Path(root), Path(out)
     if not root.is_dir():
         raise ValueError(f"{root}: not a folder")
-    params = task_parameters(task) if params is None else json.loads(json.dumps(params))
-    if params != task_parameters(task, **{k: v for k, v in _as_options(params).items()}):
-        raise ValueError(f"parameters do not fit the {task} task: {params}")
+    params = task_parameters(task, **(params or {}))  # checked, whoever made them
     out.mkdir(parents=True, exist_ok=True)
     files, ignored = find_stl_files(root, exclude=out, patterns=tuple(exclude))
     reports: dict[str, dict] = {}
@@ -624,27 +470,16 @@ def run_batch(root, out, task: str = "inspect", params: dict | None = None, *, w
     bar = tqdm(total=len(files), initial=len(files) - len(jobs), unit="file", desc=f"slicelab {task}",
                disable=(not sys.stderr.isatty()) if progress is None else not progress, file=sys.stderr)
 
-    def on_done(job, rep):
+    def on_done(job, rep, lost):
         if rep is None:
-            why = job[5] if len(job) > 5 else ("the worker process died while processing this file (out of "
-                                               "memory? or run_batch called from a script without an "
-                                               "`if __name__ == '__main__':` guard)")
-            rep = _lost_report(Path(job[0]), Path(job[1]), task, params, why)
+            rep = _lost_report(Path(job[0]), Path(job[1]), task, params, lost)
         _write_report(out, rep)
         reports[rep["file"]] = rep
         bar.update(1)
         bar.set_postfix_str(f"{rep['file']}: {rep['status']}", refresh=False)
 
     try:
-        if not jobs:
-            pass
-        elif scheduler:
-            _run_dask(jobs, scheduler, on_done)
-        elif (workers or os.cpu_count() or 1) <= 1 or len(jobs) == 1:
-            for job in jobs:  # in this process: simplest to debug, no start-up cost
-                on_done(job, process_file(*job))
-        else:
-            _run_local(jobs, min(int(workers or os.cpu_count() or 1), len(jobs)), on_done)
+        run_jobs(process_file, jobs, workers=workers, scheduler=scheduler, on_done=on_done, preload=_PRELOAD)
     finally:
         bar.close()
         ordered = [reports[k] for k in sorted(reports)]
@@ -652,9 +487,3 @@ def run_batch(root, out, task: str = "inspect", params: dict | None = None, *, w
     return BatchResult(ordered, len(jobs), len(files) - len(jobs), ignored, summary, time.perf_counter() - t0)
 
 
-def _as_options(params: dict) -> dict:
-    """`task_parameters` keyword arguments that reproduce `params`."""
-    o = {k: v for k, v in params.items() if k != "plane"}
-    if params.get("plane"):
-        o["origin"], o["normal"] = params["plane"]["origin"], params["plane"]["normal"]
-    return o

@@ -1,0 +1,342 @@
+"""The jobs on a mesh file, each defined once: the command line and `run_batch` both run them.
+
+==============  ==============================================  ==========================================
+job             parameters (defaults)                           outputs
+==============  ==============================================  ==========================================
+``inspect``     none                                            none (the report is the mesh check)
+``section``     plane (mid-height), max_gap (1)                 ``section.svg``
+``layers``      layer_height, max_gap (1), svg (True)           ``layers.json``, ``layer_NNNN_zZ.svg``
+``split``       plane, max_gap, visible_from, preview (True)    ``front.stl``, ``rear.stl``,
+                                                                ``section.svg``, ``preview.png``
+``profile``     planes (12), side, spread, align, max_gap,      ``profile.svg``, ``profile.png``,
+                png (True), json (True)                         ``profile.json``
+``cut``         plane, preview (True)                           ``rear.stl``, ``front.stl``, ``exploded.png``
+``partition``   volume, joint, clearance, step, flight,         ``part_NNN.stl``, ``parts.json``,
+                rotate, preview                                 ``exploded.png``
+``slice``       print settings, workers, preview (False)        ``print.gcode``; ``layer_*.svg``,
+                                                                ``preview.png``
+==============  ==============================================  ==========================================
+
+`run_job` checks the parameters, refuses an output folder that is a file
+before any work, loads the file (unless given the mesh), computes, writes
+and reports. The cut, partition and slice jobs live in
+`slicelab.tasks.fabrication`.
+"""
+from __future__ import annotations
+
+import json
+import time
+from pathlib import Path
+
+import numpy as np
+
+from ..export.files import atomic_open
+from .fabrication import CUT, PARTITION, SLICE
+from .spec import (
+    Job,
+    JobInput,
+    JobResult,
+    Outputs,
+    ParameterError,
+    choice,
+    number,
+    plain,
+    reason,
+    resolve_plane,
+    vector,
+    whole,
+)
+from .spec import plane as plane_value
+
+__all__ = ["JOBS", "job_parameters", "run_job", "check_output_dir"]
+
+
+def check_output_dir(path) -> None:
+    """Refuse an output folder that exists as a file (before any work, so nothing is left half done).
+
+    Examples
+    --------
+    >>> import tempfile, pathlib
+    >>> f = pathlib.Path(tempfile.mkdtemp()) / "f"; _ = f.write_text("")
+    >>> check_output_dir(f)
+    Traceback (most recent call last):
+    ...
+    ValueError: ... exists and is not a directory
+    """
+    path = Path(path)
+    if path.exists() and not path.is_dir():
+        raise ValueError(f"{path} exists and is not a directory")
+
+
+def _gap(value) -> float:
+    return number("max_gap", value, low=0)
+
+
+def _plane_result(origin, normal) -> dict:
+    return {"origin": origin.tolist(), "normal": normal.tolist()}
+
+
+# --------------------------------------------------------------------- inspect
+def _inspect_parameters() -> dict:
+    return {}
+
+
+INSPECT = Job(
+    "inspect", "load the file and check the mesh (normals, open edges, shells, volume)",
+    _inspect_parameters, {},
+    compute=lambda inp, p: inp.check,
+    write=lambda value, inp, p, out: None,
+    report=lambda value, inp, p: (value.to_dict(), []),
+)
+
+
+# --------------------------------------------------------------------- section
+def _section_parameters(plane=None, max_gap: float = 1.0) -> dict:
+    """plane: ``(origin, normal)`` or None (horizontal, at mid-height); max_gap: mm."""
+    return {"plane": plane_value(plane), "max_gap": _gap(max_gap)}
+
+
+def _section_compute(inp, p):
+    from ..slicing import section
+    origin, normal = resolve_plane(inp.mesh, p["plane"])
+    return origin, normal, section(inp.mesh, origin, normal, max_gap=p["max_gap"])
+
+
+def _section_write(value, inp, p, out):
+    value[2].to_svg(out.path("svg"))
+
+
+def _section_report(value, inp, p):
+    origin, normal, s = value
+    holes = int(np.count_nonzero(s.loop_depth % 2 == 1)) if len(s.loops) else 0
+    results = {"plane": _plane_result(origin, normal), "area": s.area, "segments": len(s.segments),
+               "loops": len(s.loops), "holes": holes, "open_chains": len(s.open_chains),
+               "joined_gaps": len(s.joined_gaps)}
+    reasons = []
+    if s.open_chains:
+        reasons.append(reason("open_section", f"the section has {len(s.open_chains)} open chains"))
+    return results, reasons
+
+
+SECTION = Job(
+    "section", "cut the mesh with one plane; draw the section as SVG (mm)",
+    _section_parameters, {"svg": "section.svg"},
+    _section_compute, _section_write, _section_report,
+    columns=("area", "loops", "holes", "open_chains"),
+)
+
+
+# ---------------------------------------------------------------------- layers
+def _layers_parameters(layer_height=None, max_gap: float = 1.0, svg: bool = True) -> dict:
+    """layer_height: mm (required); svg: also draw one SVG per layer."""
+    if layer_height is None:
+        raise ParameterError("layer_height", "is required (a positive number, mm)")
+    return {"layer_height": number("layer_height", layer_height, positive=True), "max_gap": _gap(max_gap),
+            "svg": bool(svg)}
+
+
+def _layers_compute(inp, p):
+    from ..slicing import slice_layers
+    return slice_layers(inp.mesh, p["layer_height"], max_gap=p["max_gap"])
+
+
+def _layers_write(layers, inp, p, out):
+    if p["svg"]:
+        width = max(4, len(str(len(layers))))
+        for k, s in enumerate(layers):
+            s.to_svg(out.path("svg", f"layer_{k:0{width}d}_z{s.z:.3f}.svg"))
+    with atomic_open(out.path("json"), "w", encoding="utf-8") as fh:
+        json.dump({"file": str(inp.path), "layer_height": p["layer_height"],
+                   "layers": [{"index": k, "z": s.z, **s.to_dict()} for k, s in enumerate(layers)]}, fh)
+
+
+def _layers_report(layers, inp, p):
+    n_open = sum(len(s.open_chains) for s in layers)
+    results = {"layers": len(layers), "loops": sum(len(s.loops) for s in layers), "open_chains": n_open}
+    return results, [reason("open_section", f"{n_open} open chains over the layers")] if n_open else []
+
+
+LAYERS = Job(
+    "layers", "slice the mesh at mid-layer heights; every loop as JSON, one SVG per layer",
+    _layers_parameters, {"json": "layers.json", "svg": "layer_NNNN_zZ.svg"},
+    _layers_compute, _layers_write, _layers_report,
+    columns=("layers", "loops", "open_chains"),
+)
+
+
+# ----------------------------------------------------------------------- split
+def _split_parameters(plane=None, max_gap: float = 1.0, visible_from=None, preview: bool = True) -> dict:
+    """visible_from: keep only the facets facing a viewer in this direction; preview: draw a PNG."""
+    seen = None if visible_from is None else vector("visible_from", visible_from, nonzero=True)
+    return {"plane": plane_value(plane), "max_gap": _gap(max_gap), "visible_from": seen,
+            "preview": bool(preview)}
+
+
+def _split_compute(inp, p):
+    from ..slicing.split import split
+    origin, normal = resolve_plane(inp.mesh, p["plane"])
+    seen = None if p["visible_from"] is None else np.array(p["visible_from"])
+    return origin, normal, split(inp.mesh, origin, normal, visible_from=seen, max_gap=p["max_gap"])
+
+
+def _split_write(value, inp, p, out):
+    from ..mesh import save
+    sp = value[2]
+    for side in ("front", "rear"):
+        piece = getattr(sp, side)
+        if len(piece):  # an STL without facets could not be read back
+            save(piece, out.path(side))
+    sp.section.to_svg(out.path("svg"))
+    if p["preview"]:
+        from ..viz import save_split_preview
+        save_split_preview(sp, out.path("preview"))
+
+
+def _split_report(value, inp, p):
+    origin, normal, sp = value
+    sec = sp.section
+    return {"plane": _plane_result(origin, normal), "front_facets": len(sp.front), "rear_facets": len(sp.rear),
+            "cut_facets": sp.n_cut, "n_front": sp.n_front, "n_rear": sp.n_rear,
+            "section_area": sec.area, "section_segments": len(sec.segments), "section_loops": len(sec.loops),
+            "section_open_chains": len(sec.open_chains)}, []
+
+
+SPLIT = Job(
+    "split", "split the mesh by a plane into front, section and rear",
+    _split_parameters,
+    {"front": "front.stl", "rear": "rear.stl", "svg": "section.svg", "preview": "preview.png"},
+    _split_compute, _split_write, _split_report,
+    columns=("front_facets", "rear_facets", "cut_facets", "section_area"),
+)
+
+
+# --------------------------------------------------------------------- profile
+def _profile_parameters(planes: int = 12, side: str = "left", spread: bool = False, align: bool = True,
+                        max_gap: float = 1.0, png: bool = True, json: bool = True) -> dict:
+    """planes through the axis; side of the drawn section; spread: other halves in grey;
+    align: turn the vessel onto its axis first; png, json: also write these."""
+    return {"planes": whole("planes", planes, low=1), "side": choice("side", side, ("left", "right")),
+            "spread": bool(spread), "align": bool(align), "max_gap": _gap(max_gap), "png": bool(png),
+            "json": bool(json)}
+
+
+def _profile_compute(inp, p):
+    from ..artefacts import profile
+    return profile(inp.mesh, planes=p["planes"], align=p["align"], max_gap=p["max_gap"], name=inp.path.name)
+
+
+def _profile_write(pr, inp, p, out):
+    pr.to_svg(out.path("svg"), side=p["side"], spread=p["spread"])
+    if p["png"]:
+        pr.to_png(out.path("png"), side=p["side"], spread=p["spread"])
+    if p["json"]:
+        with atomic_open(out.path("json"), "w", encoding="utf-8") as fh:
+            json.dump(pr.to_dict(), fh)
+
+
+def _profile_report(pr, inp, p):
+    a, m = pr.alignment, pr.measurements
+    results = {**m.to_dict(), "relative_residual": None if a is None else a.relative_residual,
+               "up_from": None if a is None else a.up_from, "axis": None if a is None else a.axis.tolist(),
+               "origin": None if a is None else a.origin.tolist()}
+    reasons = []
+    if not pr.is_revolution:
+        fit = "" if a is None else (f"horizontal sections stray {a.residual:.3g} mm RMS "
+                                    f"({100 * a.relative_residual:.3g} % of the radius) from circles about "
+                                    f"the best axis; ")
+        reasons.append(reason("not_revolution", f"not a solid of revolution: {fit}half-sections differ by "
+                                                f"up to {m.spread:.3g} mm"))
+    return results, reasons
+
+
+PROFILE = Job(
+    "profile", "align a vessel on its axis; draw its profile (SVG, PNG) and measure it (JSON)",
+    _profile_parameters, {"svg": "profile.svg", "png": "profile.png", "json": "profile.json"},
+    _profile_compute, _profile_write, _profile_report,
+    columns=("height", "rim_diameter", "max_diameter", "base_diameter", "wall_thickness_min",
+             "wall_thickness_mean", "wall_thickness_max", "base_thickness", "capacity", "clay_volume",
+             "relative_residual", "spread"),
+)
+
+JOBS = {job.name: job for job in (INSPECT, SECTION, LAYERS, SPLIT, PROFILE, CUT, PARTITION, SLICE)}
+
+
+def job_parameters(name: str, **options) -> dict:
+    """Check and normalise the parameters of job `name` into plain JSON values.
+
+    Every caller (command line, `run_batch`, a script) goes through here, so
+    defaults and checks live in one place. A bad value raises
+    `ParameterError`, a ValueError whose message begins with the parameter.
+
+    Examples
+    --------
+    >>> job_parameters("section", plane=((0, 0, 5), (0, 0, 2)))
+    {'plane': {'origin': [0.0, 0.0, 5.0], 'normal': [0.0, 0.0, 2.0]}, 'max_gap': 1.0}
+    >>> job_parameters("profile", planes=0)
+    Traceback (most recent call last):
+    ...
+    slicelab.tasks.spec.ParameterError: planes must be a whole number >= 1, got 0
+    """
+    job = JOBS.get(name)
+    if job is None:
+        raise ValueError(f"unknown job {name!r}; choose one of {', '.join(JOBS)}")
+    return job.check_parameters(**options)
+
+
+def run_job(name: str, source, params: dict | None = None, folder=None, *, paths=None, mesh=None,
+            check=None) -> JobResult:
+    """Run job `name` on the mesh file `source`; write its outputs; return what it did.
+
+    Parameters
+    ----------
+    name : str
+        A job of `JOBS`.
+    source : path
+        The mesh file (loaded here unless `mesh` is given).
+    params : dict, optional
+        Parameters (checked by `job_parameters`; defaults when omitted).
+    folder : path, optional
+        Where the outputs go, under the job's own file names.
+    paths : dict, optional
+        Output role -> path, for outputs the caller names itself (``-o pot.svg``).
+    mesh : Mesh, optional
+        The loaded mesh.
+    check : MeshReport, optional
+        The mesh's check, if already made.
+
+    Returns
+    -------
+    JobResult
+
+    Examples
+    --------
+    >>> import pathlib, tempfile, slicelab
+    >>> from slicelab.samples import box
+    >>> d = pathlib.Path(tempfile.mkdtemp()); slicelab.save(box((0, 0, 0), (10, 10, 10)), d / "cube.stl")
+    >>> r = run_job("section", d / "cube.stl", {"plane": ((0, 0, 5), (0, 0, 1))}, d / "out")
+    >>> [p.name for p in r.files()], r.results["area"]
+    (['section.svg'], 100.0)
+    """
+    job = JOBS.get(name)
+    if job is None:
+        raise ValueError(f"unknown job {name!r}; choose one of {', '.join(JOBS)}")
+    params = job.check_parameters(**(params or {}))
+    if folder is not None:
+        check_output_dir(folder)
+    timings = {}
+    if mesh is None:
+        from ..mesh import load
+        t0 = time.perf_counter()
+        mesh = load(source)
+        timings["load"] = time.perf_counter() - t0
+    inp = JobInput(Path(source), mesh, check)
+    t0 = time.perf_counter()
+    value = job.compute(inp, params)
+    t1 = time.perf_counter()
+    out = Outputs(job.outputs, folder, paths)
+    job.write(value, inp, params, out)
+    t2 = time.perf_counter()
+    results, reasons = job.report(value, inp, params)
+    timings.update(compute=t1 - t0, write=t2 - t1)
+    return JobResult(name, inp.path, params, dict(out.written), plain(results), list(reasons), timings,
+                     len(mesh), value)
