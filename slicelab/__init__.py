@@ -27,7 +27,7 @@ Examples
 """
 from __future__ import annotations
 
-import importlib
+from ._lazy import attach
 
 from .mesh import Mesh, MeshFileError, MeshReport, check, load, repair, save
 
@@ -54,14 +54,4 @@ _LAZY = {
 __all__ = ["Mesh", "MeshFileError", "MeshReport", "check", "load", "repair", "save", "__version__", *_LAZY]
 
 
-def __getattr__(name):
-    module = _LAZY.get(name)
-    if module is None:
-        raise AttributeError(f"module 'slicelab' has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{module}", __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_LAZY))
+__getattr__, __dir__ = attach(__name__, _LAZY, globals())

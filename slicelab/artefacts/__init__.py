@@ -10,7 +10,7 @@
 """
 from __future__ import annotations
 
-import importlib
+from .._lazy import attach
 
 # Submodule of each public name: they load on first use (matplotlib and the like are slow to import).
 _WHERE = {"Alignment": "axis", "align": "axis", "rotation_to_z": "axis_fit", "surface_moments": "axis_fit", "principal_axis": "axis_fit", "normal_lines_axis": "axis_fit", "refine_axis": "axis_fit", "HalfProfile": "profiles", "half_profiles": "profiles", "Profile": "profiles", "profile": "profiles", "Measurements": "measure", "measure_halves": "measure", "pappus_volume": "measure", "clip_ring": "measure", "resample": "measure", "layout": "drawing", "profile_svg": "drawing"}
@@ -19,14 +19,4 @@ _WHERE = {"Alignment": "axis", "align": "axis", "rotation_to_z": "axis_fit", "su
 __all__ = ["Alignment", "align", "rotation_to_z", "surface_moments", "principal_axis", "normal_lines_axis", "refine_axis", "HalfProfile", "half_profiles", "Profile", "profile", "Measurements", "measure_halves", "pappus_volume", "clip_ring", "resample", "layout", "profile_svg"]
 
 
-def __getattr__(name):
-    module = _WHERE.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{module}", __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = attach(__name__, _WHERE, globals())

@@ -10,7 +10,7 @@
 """
 from __future__ import annotations
 
-import importlib
+from .._lazy import attach
 
 # Submodule of each public name: they load on first use (matplotlib and the like are slow to import).
 _WHERE = {"Job": "spec", "JobInput": "spec", "JobResult": "spec", "ParameterError": "spec", "JOBS": "jobs",
@@ -24,14 +24,4 @@ __all__ = ["Job", "JobInput", "JobResult", "ParameterError", "JOBS", "job_parame
            "write_summary"]
 
 
-def __getattr__(name):
-    module = _WHERE.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{module}", __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = attach(__name__, _WHERE, globals())

@@ -12,7 +12,7 @@
 """
 from __future__ import annotations
 
-import importlib
+from .._lazy import attach
 
 # Submodule of each public name: they load on first use (matplotlib and the like are slow to import).
 _WHERE = {"GridMask": "raster", "LayerRaster": "raster", "RasterContours": "raster", "rasterize": "raster",
@@ -36,14 +36,4 @@ __all__ = ["GridMask", "LayerRaster", "RasterContours", "rasterize", "winding_nu
            "PrintPlan", "plan", "layer_bounds", "settings_dict"]
 
 
-def __getattr__(name):
-    module = _WHERE.get(name)
-    if module is None:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(f".{module}", __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(__all__))
+__getattr__, __dir__ = attach(__name__, _WHERE, globals())
