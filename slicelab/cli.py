@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 from pathlib import Path
 
@@ -125,6 +126,34 @@ def _no_preview(p, name: str = "preview.png") -> None:
                    help=f"do not draw {name}")
 
 
+def _repair_flag(p) -> None:
+    p.add_argument("--repair", action="store_true", default=_GIVEN,
+                   help="first snap CAD float noise (near-coincident vertices), drop collapsed and duplicate "
+                        "facets and make windings agree (slicelab.repair); the changes are reported")
+
+
+def _negative_values(argv: list[str]) -> list[str]:
+    """``--origin -3,2,1`` as ``--origin=-3,2,1``: argparse takes a value that starts with a minus
+    sign for an option unless it is a plain number."""
+    out, k = [], 0
+    while k < len(argv):
+        tok = argv[k]
+        if (tok.startswith("--") and "=" not in tok and k + 1 < len(argv)
+                and re.fullmatch(r"-[\d.][\d.eE+\-]*(,[-+]?[\d.][\d.eE+\-]*)*", argv[k + 1])):
+            out.append(f"{tok}={argv[k + 1]}")
+            k += 2
+            continue
+        out.append(tok)
+        k += 1
+    return out
+
+
+def _say_repair(r) -> None:
+    rep = r.results.get("repair")
+    if rep is not None:
+        print("repair: " + ("; ".join(rep["changes"]) if rep["changes"] else "nothing to repair"))
+
+
 def _timings(r, verb: str) -> str:
     t = r.timings
     return f"load {t['load']:.2f} s, {verb} {t['compute']:.2f} s, write {t['write']:.2f} s"
@@ -191,6 +220,7 @@ def _add_layers(sub) -> None:
 def _run_layers(args) -> int:
     r = run_job("layers", args.file, _options(args, "layers"), args.output)
     s = r.results
+    _say_repair(r)
     print(f"{args.file}: {r.n_facets} facets; {s['layers']} layers, {s['loops']} loops, "
           f"{s['open_chains']} open chains")
     print(f"{_timings(r, 'slice')}; wrote {args.output}/")
@@ -336,19 +366,25 @@ def _add_cut(sub) -> None:
     _add_plane_arguments(p)
     p.add_argument("-o", "--output", type=Path, required=True, metavar="DIR")
     _no_preview(p, "exploded.png")
+    _repair_flag(p)
 
 
 def _run_cut(args) -> int:
     r = run_job("cut", args.file, _options(args, "cut", plane=_plane(args)), args.output)
+    _say_repair(r)
     print(f"{args.file}: {r.n_facets} facets; {r.value[2].report.describe()}")
     for name in ("rear", "front"):
-        part = r.results[name]
+        part = r.results.get(name)
+        if part is None:
+            print(f"{name}.stl: not written (the plane leaves nothing on that side)")
+            continue
         print(f"{name}.stl: {part['facets']} facets, volume {part['volume']:.6g} mm3, "
-              f"{'watertight' if part['watertight'] else 'NOT watertight'}")
+              f"{'watertight' if part['watertight'] else 'NOT watertight'} as written")
     print(f"{_timings(r, 'cut')}; wrote {args.output}/")
-    if not r.results["closed"]:
-        print("slicelab: warning: the section did not close everywhere (open input); "
-              "the parts are not watertight", file=sys.stderr)
+    for why in r.reasons:
+        print(f"slicelab: warning: {why['message']}", file=sys.stderr)
+    if not all(r.results[n]["watertight"] for n in ("rear", "front") if n in r.results):
+        print("slicelab: error: the parts are not watertight as written", file=sys.stderr)
         return 1
     return 0
 
@@ -373,14 +409,24 @@ def _add_partition(sub) -> None:
                    help="do not turn pieces about z to fit")
     p.add_argument("-o", "--output", type=Path, required=True, metavar="DIR")
     _no_preview(p, "exploded.png")
+    _repair_flag(p)
 
 
 def _run_partition(args) -> int:
     r = run_job("partition", args.file, _options(args, "partition"), args.output)
+    _say_repair(r)
     print(f"{args.file}: {r.n_facets} facets")
-    print(r.value.report.describe())
-    print(f"{_timings(r, 'partition')}; wrote {args.output}/")
-    return 0 if r.results["watertight"] else 1
+    written = [w["watertight"] for w in r.results["written"].values()]
+    print(r.value.report.describe(watertight=written))
+    print(f"{_timings(r, 'partition')}; wrote {args.output}/ (pieces placed for printing; "
+          f"watertight as read back from the files)")
+    if not r.results["watertight"]:
+        for why in r.reasons:
+            print(f"slicelab: warning: {why['message']}", file=sys.stderr)
+        print(f"slicelab: error: {written.count(False)} of {len(written)} pieces are not watertight as written",
+              file=sys.stderr)
+        return 1
+    return 0
 
 
 # ----------------------------------------------------------------------- slice
@@ -409,12 +455,14 @@ def _add_slice(sub) -> None:
     p.add_argument("--workers", type=int, default=_GIVEN, metavar="N", help="processes (default: all cores)")
     p.add_argument("--preview", dest="preview_dir", type=Path, default=None, metavar="DIR",
                    help="also write DIR/layer_*.svg and DIR/preview.png")
+    _repair_flag(p)
 
 
 def _run_slice(args) -> int:
     params = _options(args, "slice", preview=args.preview_dir is not None)
     r = run_job("slice", args.file, params, args.preview_dir, paths={"gcode": args.output})
     s = r.results
+    _say_repair(r)
     print(f"{args.file}: {r.n_facets} facets; {s['layers']} layers, print {s['print_length'] / 1000:.1f} m, "
           f"filament {s['filament_length'] / 1000:.2f} m ({s['extruded_volume'] / 1000:.2f} cm3)")
     t = r.timings
@@ -453,7 +501,7 @@ def main(argv=None) -> int:
     slicelab 0.1.0
     """
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(_negative_values(list(sys.argv[1:] if argv is None else argv)))
     try:
         return int(globals()[f"_run_{args.command.replace('-', '_')}"](args) or 0)
     except ParameterError as exc:
@@ -465,6 +513,10 @@ def main(argv=None) -> int:
     except (ValueError, OSError) as exc:
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         print(f"slicelab: error: {msg}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print("slicelab: error: out of memory: the parameters ask for more than this machine has "
+              "(a coarser --pixel-size or --layer-height needs less)", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("slicelab: interrupted", file=sys.stderr)

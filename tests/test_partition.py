@@ -243,10 +243,17 @@ def test_cli_partition(tmp_path, data_dir):
     assert len(files) == len(report["pieces"]) >= 2
     total = 0.0
     for f, info in zip(files, report["pieces"]):
+        assert info["file"] == f.name
         piece = slicelab.load(f)
-        assert check(piece).watertight
-        assert_fits(piece, (80, 80, 80), info["rotation"])
-        total += check(piece).volume
+        written = check(piece)
+        # What the report says is what the file holds: watertight, and placed as printed.
+        assert written.watertight and info["watertight"] and info["written"]["watertight"]
+        lo, hi = piece.bounds
+        assert np.all(lo >= -1e-4) and np.all(hi <= 80 + 1e-4), (f.name, lo, hi)  # float32 file
+        assert abs(lo[2]) <= 1e-4
+        assert tuple(hi - lo) == pytest.approx(info["size"], abs=1e-4)
+        np.testing.assert_allclose(np.asarray(info["placement"]["matrix"])[3], [0, 0, 0, 1])
+        total += written.volume
     assert total == pytest.approx(check(slicelab.load(data_dir / "pot.stl")).volume, rel=1e-5)  # float32 STL
     assert report["glue_area"] >= 2 * report["flat_area"]
     assert (out / "exploded.png").stat().st_size > 1000

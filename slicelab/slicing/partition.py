@@ -134,17 +134,19 @@ class PartitionReport:
     def watertight(self) -> bool:
         return all(p.watertight for p in self.pieces)
 
-    def describe(self) -> str:
-        """A small table for people."""
+    def describe(self, watertight=None) -> str:
+        """A small table for people; `watertight` (one bool a piece) replaces the in-memory
+        check, e.g. by the check of each piece's file as written."""
+        tight = [p.watertight for p in self.pieces] if watertight is None else list(watertight)
         bx = "x".join(f"{v:g}" for v in self.build_volume)
         lines = [f"{len(self.pieces)} pieces for a {bx} mm build volume, {self.joint} joints, "
                  f"clearance {self.clearance:g} mm; glue area {self.glue_area:.6g} mm2 "
                  f"(flat cuts: {self.flat_area:.6g} mm2)",
                  "piece  size x y z (mm)               turn   volume (mm3)   facets  watertight"]
-        for k, p in enumerate(self.pieces):
+        for k, (p, ok) in enumerate(zip(self.pieces, tight)):
             size = " x ".join(f"{v:7.2f}" for v in p.size)
             lines.append(f"{k:5d}  {size}  {p.rotation:5.1f}  {p.volume:13.6g}  {p.n_facets:7d}  "
-                         f"{'yes' if p.watertight else 'NO'}")
+                         f"{'yes' if ok else 'NO'}")
         lines.append("joint  axis  position   kind        flat (mm2)   glue (mm2)  ratio")
         for k, j in enumerate(self.joints):
             lines.append(f"{k:5d}  {_AXES[j.axis]:>4}  {j.position:9.3f}  {j.kind:<10}  {j.flat_area:11.6g}  "

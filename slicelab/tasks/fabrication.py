@@ -29,9 +29,10 @@ __all__ = ["CUT", "PARTITION", "SLICE"]
 
 
 # ------------------------------------------------------------------------- cut
-def _cut_parameters(plane=None, preview: bool = True) -> dict:
-    """plane: ``(origin, normal)`` or None (horizontal, at mid-height); preview: draw exploded.png."""
-    return {"plane": plane_value(plane), "preview": bool(preview)}
+def _cut_parameters(plane=None, preview: bool = True, repair: bool = False) -> dict:
+    """plane: ``(origin, normal)`` or None (horizontal, at mid-height); preview: draw exploded.png;
+    repair: snap CAD float noise, drop collapsed facets and fix windings first (`slicelab.repair`)."""
+    return {"plane": plane_value(plane), "preview": bool(preview), "repair": bool(repair)}
 
 
 def _cut_compute(inp, p):
@@ -44,27 +45,55 @@ def _cut_compute(inp, p):
         return origin, normal, cut(inp.mesh, origin, normal)
 
 
+def _write_parts(named, out) -> tuple[dict, list]:
+    """Write meshes through `write_mesh`; the results are the checks of the files as written."""
+    from ..export import write_mesh
+    results, reasons = {}, []
+    for role, name, mesh in named:
+        if len(mesh) == 0:  # an STL with no facets could not be read back
+            continue
+        w = write_mesh(mesh, out.path(role, name) if name else out.path(role))
+        r = w.report
+        results[role if name is None else name] = {
+            "facets": r.n_facets, "volume": r.volume, "watertight": bool(r.watertight and r.winding_consistent),
+            "collapsed_in_float32": w.n_collapsed}
+        if not (r.watertight and r.winding_consistent):
+            reasons.append(reason("not_watertight", f"{w.path.name} as written has {r.n_open_edges} open, "
+                                                    f"{r.n_nonmanifold_edges} non-manifold and "
+                                                    f"{r.n_misoriented_edges} misoriented edges"))
+    return results, reasons
+
+
+def _open_input(inp) -> list:
+    r = inp.check
+    if r.watertight and r.winding_consistent:
+        return []
+    hint = " (near-coincident vertices: try --repair)" if r.n_near_vertices else ""
+    return [reason("open_input", f"the input is not watertight: {r.n_open_edges} open, {r.n_nonmanifold_edges} "
+                                 f"non-manifold, {r.n_misoriented_edges} misoriented edges{hint}")]
+
+
 def _cut_write(value, inp, p, out):
-    from ..mesh import save
     parts = value[2]
-    for name in ("rear", "front"):
-        save(getattr(parts, name), out.path(name))
+    results, reasons = _write_parts([("rear", None, parts.rear), ("front", None, parts.front)], out)
     if p["preview"]:
         from ..viz import save_exploded_png
         save_exploded_png((parts.rear, parts.front), out.path("preview"), spread=0.35,
                           title=f"{inp.path.name}: cut")
+    return {"results": results, "reasons": reasons}
 
 
 def _cut_report(value, inp, p):
-    from ..mesh import check
     origin, normal, parts = value
-    results = {"plane": {"origin": origin.tolist(), "normal": normal.tolist()}, "closed": parts.report.closed}
-    for name in ("rear", "front"):
-        r = check(getattr(parts, name))
-        results[name] = {"facets": r.n_facets, "volume": r.volume,
-                         "watertight": bool(r.watertight and r.winding_consistent)}
-    reasons = [] if parts.report.closed else [
-        reason("open_section", "the section did not close everywhere (open input); the parts are not watertight")]
+    rep = parts.report
+    results = {"plane": {"origin": origin.tolist(), "normal": normal.tolist()}, "closed": rep.closed,
+               "notes": [n for cap in (rep.rear_cap, rep.front_cap) for n in cap.notes]}
+    reasons = _open_input(inp)
+    if not rep.closed:
+        reasons.append(reason("open_section", "the section did not close everywhere; the parts are not watertight"))
+    if results["notes"]:
+        reasons.append(reason("self_intersecting", rep.rear_cap.notes[0] if rep.rear_cap.notes else
+                              rep.front_cap.notes[0]))
     return results, reasons
 
 
@@ -77,15 +106,24 @@ CUT = Job(
 
 # ------------------------------------------------------------------- partition
 def _partition_parameters(volume=None, joint: str = "flat", clearance: float = 0.0, step=(10.0, 20.0),
-                          flight: int = 1, rotate: bool = True, preview: bool = True) -> dict:
+                          flight: int = 1, rotate: bool = True, preview: bool = True, repair: bool = False) -> dict:
     """volume: the build volume (3 sizes, mm; required); joint: flat or stair; clearance: glue gap (mm);
     step: stair step height and depth (mm); flight: steps up before stepping down; rotate: turn
-    pieces about z to fit; preview: draw exploded.png."""
+    pieces about z to fit; preview: draw exploded.png; repair: `slicelab.repair` the mesh first."""
     if volume is None:
         raise ParameterError("volume", "is required (three sizes in mm, such as 200x200x200)")
     return {"volume": vector("volume", volume, positive=True), "joint": choice("joint", joint, ("flat", "stair")),
             "clearance": number("clearance", clearance, low=0), "step": vector("step", step, size=2, positive=True),
-            "flight": whole("flight", flight, low=1), "rotate": bool(rotate), "preview": bool(preview)}
+            "flight": whole("flight", flight, low=1), "rotate": bool(rotate), "preview": bool(preview),
+            "repair": bool(repair)}
+
+
+def _partition_feasible(inp, p):
+    from .limits import check_partition
+    why = _open_input(inp)
+    if why:
+        raise ValueError(f"{inp.path}: {why[0]['message']}; a partition needs a closed solid")
+    check_partition(inp.mesh, p["volume"], joint=p["joint"], step=p["step"])
 
 
 def _partition_compute(inp, p):
@@ -95,31 +133,37 @@ def _partition_compute(inp, p):
 
 
 def _partition_write(parts, inp, p, out):
-    from ..mesh import save
+    # Each piece is written as it will be printed: laid on its cut face, turned, centred on the bed.
     pieces = parts.pieces
     width = max(3, len(str(len(pieces))))
-    for k, piece in enumerate(pieces):
-        save(piece, out.path("pieces", f"part_{k:0{width}d}.stl"))
+    names = [f"part_{k:0{width}d}.stl" for k in range(len(pieces))]
+    placed = [piece.transformed(info.placement.matrix) for piece, info in zip(pieces, parts.report.pieces)]
+    results, reasons = _write_parts([("pieces", n, m) for n, m in zip(names, placed)], out)
+    report = parts.report.to_dict()
+    for name, piece in zip(names, report["pieces"]):
+        piece["file"] = name
+        piece["written"] = results[name]
+        piece["watertight"] = results[name]["watertight"]  # what the file holds, not the memory
     with atomic_open(out.path("json"), "w", encoding="utf-8") as fh:
-        json.dump({"file": str(inp.path), **parts.report.to_dict()}, fh, indent=1)
+        json.dump({"file": str(inp.path), **report}, fh, indent=1)
     if p["preview"]:
         from ..viz import save_exploded_png
         save_exploded_png(pieces, out.path("preview"),
                           title=f"{inp.path.name}: {len(pieces)} pieces, {p['joint']} joints")
+    return {"results": {"written": results, "watertight": all(r["watertight"] for r in results.values())},
+            "reasons": reasons}
 
 
 def _partition_report(parts, inp, p):
     rep = parts.report
-    results = {"pieces": len(parts.pieces), "watertight": rep.watertight, "glue_area": rep.glue_area,
-               "flat_area": rep.flat_area}
-    reasons = [] if rep.watertight else [reason("not_watertight", "some pieces are not watertight")]
-    return results, reasons
+    results = {"pieces": len(parts.pieces), "glue_area": rep.glue_area, "flat_area": rep.flat_area}
+    return results, []
 
 
 PARTITION = Job(
     "partition", "cut a solid into pieces that fit a printer's build volume",
     _partition_parameters, {"pieces": "part_NNN.stl", "json": "parts.json", "preview": "exploded.png"},
-    _partition_compute, _partition_write, _partition_report,
+    _partition_compute, _partition_write, _partition_report, feasible=_partition_feasible,
 )
 
 
@@ -132,9 +176,10 @@ _SETTINGS = ("layer_height", "first_layer_height", "line_width", "n_perimeters",
 def _slice_parameters(layer_height=None, first_layer_height=None, line_width=None, n_perimeters=None,
                       infill_density=None, infill_angle=None, top_layers=None, bottom_layers=None,
                       pixel_size=None, nozzle_temperature=None, bed_temperature=None, workers=None,
-                      preview: bool = False) -> dict:
+                      preview: bool = False, repair: bool = False) -> dict:
     """`slicelab.toolpath.PrintSettings` fields (None: its default; the first layer as thick as
-    the others unless given); workers: processes (None: all cores); preview: layer SVGs and a PNG."""
+    the others unless given); workers: processes (None: all cores); preview: layer SVGs and a PNG;
+    repair: `slicelab.repair` the mesh first."""
     from ..toolpath import PrintSettings
     given = {k: v for k, v in locals().items() if k in _SETTINGS and v is not None}
     if first_layer_height is None and layer_height is not None:
@@ -148,7 +193,15 @@ def _slice_parameters(layer_height=None, first_layer_height=None, line_width=Non
         name, _, problem = str(exc).partition(" ")
         raise (ParameterError(name, problem) if name in _SETTINGS else exc) from None
     return {**given, "workers": None if workers is None else whole("workers", workers, low=1),
-            "preview": bool(preview)}
+            "preview": bool(preview), "repair": bool(repair)}
+
+
+def _slice_feasible(inp, p):
+    from ..toolpath import PrintSettings
+    from .limits import check_print
+    s = PrintSettings(**{k: v for k, v in p.items() if k in _SETTINGS})
+    check_print(inp.mesh, layer_height=min(s.layer_height, s.first_layer_height), pixel_size=s.pixel_size,
+                line_width=s.line_width, n_perimeters=s.n_perimeters)
 
 
 def _slice_compute(inp, p):
@@ -177,5 +230,5 @@ def _slice_report(pp, inp, p):
 SLICE = Job(
     "slice", "plan every layer (perimeters, skins, infill) and write Marlin G-code",
     _slice_parameters, {"gcode": "print.gcode", "svg": "layer_*.svg", "preview": "preview.png"},
-    _slice_compute, _slice_write, _slice_report,
+    _slice_compute, _slice_write, _slice_report, feasible=_slice_feasible,
 )

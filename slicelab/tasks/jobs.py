@@ -32,6 +32,7 @@ import numpy as np
 
 from ..export.files import atomic_open
 from .fabrication import CUT, PARTITION, SLICE
+from .limits import check_layers, check_planes
 from .spec import (
     Job,
     JobInput,
@@ -161,6 +162,7 @@ LAYERS = Job(
     _layers_parameters, {"json": "layers.json", "svg": "layer_NNNN_zZ.svg"},
     _layers_compute, _layers_write, _layers_report,
     columns=("layers", "loops", "open_chains"),
+    feasible=lambda inp, p: check_layers(inp.mesh, p["layer_height"]),
 )
 
 
@@ -180,16 +182,19 @@ def _split_compute(inp, p):
 
 
 def _split_write(value, inp, p, out):
-    from ..mesh import save
+    from ..export import write_mesh
     sp = value[2]
+    written = {}
     for side in ("front", "rear"):
         piece = getattr(sp, side)
         if len(piece):  # an STL without facets could not be read back
-            save(piece, out.path(side))
+            w = write_mesh(piece, out.path(side))
+            written[f"{side}_collapsed_in_float32"] = w.n_collapsed
     sp.section.to_svg(out.path("svg"))
     if p["preview"]:
         from ..viz import save_split_preview
         save_split_preview(sp, out.path("preview"))
+    return {"results": written}
 
 
 def _split_report(value, inp, p):
@@ -252,7 +257,7 @@ def _profile_report(pr, inp, p):
 PROFILE = Job(
     "profile", "align a vessel on its axis; draw its profile (SVG, PNG) and measure it (JSON)",
     _profile_parameters, {"svg": "profile.svg", "png": "profile.png", "json": "profile.json"},
-    _profile_compute, _profile_write, _profile_report,
+    _profile_compute, _profile_write, _profile_report, feasible=lambda inp, p: check_planes(p["planes"]),
     columns=("height", "rim_diameter", "max_diameter", "base_diameter", "wall_thickness_min",
              "wall_thickness_mean", "wall_thickness_max", "base_thickness", "capacity", "clay_volume",
              "relative_residual", "spread"),
@@ -329,14 +334,27 @@ def run_job(name: str, source, params: dict | None = None, folder=None, *, paths
         t0 = time.perf_counter()
         mesh = load(source)
         timings["load"] = time.perf_counter() - t0
+    repaired = None
+    if params.get("repair"):
+        from ..mesh import repair
+        t0 = time.perf_counter()
+        fixed = repair(mesh)
+        mesh, repaired = fixed.mesh, fixed.report
+        check, timings["repair"] = None, time.perf_counter() - t0
     inp = JobInput(Path(source), mesh, check)
+    if job.feasible is not None:
+        job.feasible(inp, params)
     t0 = time.perf_counter()
     value = job.compute(inp, params)
     t1 = time.perf_counter()
     out = Outputs(job.outputs, folder, paths)
-    job.write(value, inp, params, out)
+    written = job.write(value, inp, params, out) or {}
     t2 = time.perf_counter()
     results, reasons = job.report(value, inp, params)
+    results = {**results, **written.get("results", {})}
+    reasons = list(reasons) + list(written.get("reasons", []))
+    if repaired is not None:
+        results["repair"] = repaired.to_dict()
     timings.update(compute=t1 - t0, write=t2 - t1)
-    return JobResult(name, inp.path, params, dict(out.written), plain(results), list(reasons), timings,
+    return JobResult(name, inp.path, params, dict(out.written), plain(results), reasons, timings,
                      len(mesh), value)

@@ -337,11 +337,16 @@ class Job:
     compute : callable
         ``(JobInput, params) -> value``.
     write : callable
-        ``(value, JobInput, params, Outputs) -> None``; every file is written atomically.
+        ``(value, JobInput, params, Outputs) -> dict or None``; every file is
+        written atomically. A dict returned holds results about the files as
+        written (their own checks), added to the report's.
     report : callable
         ``(value, JobInput, params) -> (results, reasons)``.
     columns : tuple of str
         Results a batch's ``summary.csv`` keeps.
+    feasible : callable, optional
+        ``(JobInput, params) -> None``: raises `ParameterError` when the
+        parameters ask more of this part than can be done (`slicelab.tasks.limits`).
     """
 
     name: str
@@ -352,6 +357,7 @@ class Job:
     write: Callable
     report: Callable
     columns: tuple = ()
+    feasible: Callable | None = None
 
     @property
     def defaults(self) -> dict:

@@ -1,0 +1,155 @@
+"""Work a job's parameters would ask of the machine, estimated before any is done.
+
+A parameter that is valid on its own can still ask for the impossible on a
+given part: layers of a nanometre, pixels of ten nanometres, a hundred
+thousand perimeters. Each check here estimates the layers, pixels, memory or
+pieces from the part's size first and refuses, naming the parameter and the
+estimate, what no machine of this size could finish (or what makes no
+physical sense), so a command ends in a second with one clear line instead
+of a MemoryError or an hour of work.
+"""
+from __future__ import annotations
+
+import math
+import os
+
+import numpy as np
+
+from .spec import ParameterError
+
+__all__ = ["MIN_LAYER_HEIGHT", "MIN_PIXEL_SIZE", "MAX_LAYERS", "MAX_PLANES", "MAX_STAIR_BANDS", "memory_budget",
+           "check_layers", "check_print", "check_planes", "check_partition"]
+
+MIN_LAYER_HEIGHT = 1e-3   # mm: one micrometre, far below any printer or scanner
+MIN_PIXEL_SIZE = 5e-3     # mm: five micrometres, a tenth of the finest nozzle's line
+MAX_LAYERS = 100_000      # a 10 m part at 0.1 mm
+MAX_PLANES = 3600         # a plane every tenth of a degree
+MAX_STAIR_BANDS = 2000    # teeth across one joint
+_SEGMENT_BYTES = 200      # memory per section segment while slicing every layer at once
+_PIXEL_BYTES = 40         # memory per raster pixel of a layer (masks, distance field, labels)
+
+
+def memory_budget() -> int:
+    """Half the machine's physical memory (bytes): what one job may plan to use.
+
+    Examples
+    --------
+    >>> memory_budget() > 0
+    True
+    """
+    try:
+        total = os.sysconf("SC_PAGE_SIZE") * os.sysconf("SC_PHYS_PAGES")
+    except (ValueError, OSError, AttributeError):  # pragma: no cover - not POSIX
+        total = 8 << 30
+    return int(total // 2)
+
+
+def _gib(n: float) -> str:
+    return f"{n / 2 ** 30:.3g} GiB"
+
+
+def check_layers(mesh, layer_height: float, name: str = "layer_height") -> int:
+    """Refuse a layer height that is absurd or whose sections would not fit in memory.
+
+    Returns the number of layers.
+
+    Examples
+    --------
+    >>> from slicelab.samples import box
+    >>> check_layers(box((0, 0, 0), (10, 10, 10)), 0.2)
+    50
+    >>> check_layers(box((0, 0, 0), (10, 10, 10)), 1e-9)
+    Traceback (most recent call last):
+    ...
+    slicelab.tasks.spec.ParameterError: layer_height 1e-09 mm is thinner than 0.001 mm (one micrometre): 10000000000 layers for a part 10 mm tall
+    """
+    lo, hi = mesh.bounds
+    height = float(hi[2] - lo[2])
+    n = int(math.ceil(height / layer_height)) if height > 0 else 1
+    if layer_height < MIN_LAYER_HEIGHT:
+        raise ParameterError(name, f"{layer_height:g} mm is thinner than {MIN_LAYER_HEIGHT:g} mm (one "
+                                   f"micrometre): {n} layers for a part {height:.4g} mm tall")
+    if n > MAX_LAYERS:
+        raise ParameterError(name, f"{layer_height:g} mm makes {n} layers of a part {height:.4g} mm tall "
+                                   f"(at most {MAX_LAYERS})")
+    # Segments: each facet meets about (its height / layer height) planes.
+    z = mesh.triangles[..., 2]
+    crossings = float((z.max(axis=1) - z.min(axis=1)).sum()) / layer_height + len(mesh)
+    need = crossings * _SEGMENT_BYTES
+    if need > memory_budget():
+        raise ParameterError(name, f"{layer_height:g} mm makes about {crossings:.3g} section segments, "
+                                   f"{_gib(need)} of memory (this machine allows {_gib(memory_budget())})")
+    return n
+
+
+def check_print(mesh, *, layer_height: float, pixel_size: float, line_width: float, n_perimeters: int) -> None:
+    """Refuse print settings the part cannot take: layers, pixels per layer, perimeters.
+
+    Examples
+    --------
+    >>> from slicelab.samples import box
+    >>> part = box((0, 0, 0), (20, 20, 10))
+    >>> check_print(part, layer_height=0.2, pixel_size=0.05, line_width=0.4, n_perimeters=2)
+    >>> check_print(part, layer_height=0.2, pixel_size=0.05, line_width=0.4, n_perimeters=1000)
+    Traceback (most recent call last):
+    ...
+    slicelab.tasks.spec.ParameterError: n_perimeters 1000 would reach 400 mm inward from the outline of a part 20 mm across: at most 25 fit
+    """
+    check_layers(mesh, layer_height)
+    lo, hi = mesh.bounds
+    x, y = float(hi[0] - lo[0]), float(hi[1] - lo[1])
+    fit = int(math.ceil(max(x, y) / (2 * line_width)))
+    if n_perimeters > fit + 1:
+        raise ParameterError("n_perimeters", f"{n_perimeters} would reach {n_perimeters * line_width:.4g} mm "
+                                             f"inward from the outline of a part {max(x, y):.4g} mm across: "
+                                             f"at most {fit} fit")
+    if pixel_size < MIN_PIXEL_SIZE:
+        raise ParameterError("pixel_size", f"{pixel_size:g} mm is finer than {MIN_PIXEL_SIZE:g} mm "
+                                           f"(a tenth of a fine nozzle's line)")
+    margin = 2 * (n_perimeters + 2) * line_width
+    pixels = (x + margin) * (y + margin) / pixel_size ** 2
+    need = pixels * _PIXEL_BYTES
+    if need > memory_budget():
+        raise ParameterError("pixel_size", f"{pixel_size:g} mm makes {pixels:.3g} pixels a layer for a part "
+                                           f"{x:.4g} x {y:.4g} mm, {_gib(need)} of memory (this machine allows "
+                                           f"{_gib(memory_budget())})")
+
+
+def check_planes(planes: int, name: str = "planes") -> None:
+    """Refuse more planes through an axis than a drawing or a measurement can use.
+
+    Examples
+    --------
+    >>> check_planes(100000)
+    Traceback (most recent call last):
+    ...
+    slicelab.tasks.spec.ParameterError: planes 100000 is more than 3600 (a plane every 0.1 degree)
+    """
+    if planes > MAX_PLANES:
+        raise ParameterError(name, f"{planes} is more than {MAX_PLANES} (a plane every 0.1 degree)")
+
+
+def check_partition(mesh, volume, *, joint: str, step, max_pieces: int = 512) -> None:
+    """Refuse a partition that needs more pieces, or stair teeth, than can be made.
+
+    Examples
+    --------
+    >>> from slicelab.samples import box
+    >>> check_partition(box((0, 0, 0), (100, 100, 100)), (50, 50, 50), joint="stair", step=(1e-6, 1e-6))
+    Traceback (most recent call last):
+    ...
+    slicelab.tasks.spec.ParameterError: step 1e-06 mm makes about 100000000 stair teeth across a joint of a part 100 mm across (at most 2000)
+    """
+    lo, hi = mesh.bounds
+    e = hi - lo
+    V = np.asarray(volume, dtype=np.float64)
+    pieces = int(np.prod(np.maximum(np.ceil(e / V), 1)))
+    if pieces > max_pieces:
+        raise ParameterError("volume", f"{'x'.join(f'{v:g}' for v in V)} mm needs at least {pieces} pieces for a "
+                                       f"part {' x '.join(f'{v:.4g}' for v in e)} mm (at most {max_pieces})")
+    if joint == "stair":
+        h, d = (float(v) for v in step)
+        bands = float(e.max()) / min(h, d)
+        if bands > MAX_STAIR_BANDS:
+            raise ParameterError("step", f"{min(h, d):g} mm makes about {bands:.0f} stair teeth across a joint "
+                                         f"of a part {float(e.max()):.4g} mm across (at most {MAX_STAIR_BANDS})")

@@ -1,0 +1,68 @@
+"""Work no machine could finish, and inputs that are not files, end in one line and exit status 2, fast."""
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+import time
+
+import pytest
+
+import slicelab
+from slicelab.samples import box, figure_eight_prism
+
+CASES = {
+    "pixels of 10 nm": (["slice", "{pot}", "-o", "{out}/p.gcode", "--pixel-size", "1e-5"], "--pixel-size"),
+    "layers of 1 nm": (["layers", "{pot}", "--layer-height", "1e-9", "-o", "{out}/l"], "--layer-height"),
+    "print layers of 1 um": (["slice", "{pot}", "-o", "{out}/p.gcode", "--layer-height", "1e-6"], "--layer-height"),
+    "100000 perimeters": (["slice", "{pot}", "-o", "{out}/p.gcode", "--perimeters", "100000"], "--perimeters"),
+    "100000 planes": (["profile", "{pot}", "--planes", "100000", "-o", "{out}/p.svg"], "--planes"),
+    "stair steps of 1 nm": (["partition", "{pot}", "--volume", "80x80x80", "--joint", "stair",
+                             "--step", "1e-6,1e-6", "-o", "{out}/parts"], "--step"),
+    "a build volume for ants": (["partition", "{pot}", "--volume", "1x1x1", "-o", "{out}/parts"], "--volume"),
+    "a FIFO to inspect": (["inspect", "{fifo}"], "not a regular file"),
+    "a FIFO to section": (["section", "{fifo}", "--z", "1", "-o", "{out}/s.svg"], "not a regular file"),
+    "an open solid to partition": (["partition", "{open}", "--volume", "20x20x20", "-o", "{out}/parts"],
+                                   "not watertight"),
+}
+
+
+@pytest.fixture
+def files(tmp_path, data_dir):
+    fifo = tmp_path / "pipe.stl"
+    os.mkfifo(fifo)
+    opened = box((0, 0, 0), (50, 10, 10))
+    slicelab.save(slicelab.Mesh(opened.triangles[1:]), tmp_path / "open.stl")
+    return {"pot": data_dir / "pot.stl", "out": tmp_path / "out", "fifo": fifo, "open": tmp_path / "open.stl"}
+
+
+@pytest.mark.parametrize("case", CASES)
+def test_impossible_work_is_refused_up_front(case, files):
+    args, words = CASES[case]
+    t0 = time.perf_counter()
+    r = subprocess.run([sys.executable, "-m", "slicelab", *(a.format(**files) for a in args)],
+                       capture_output=True, text=True, timeout=120)
+    took = time.perf_counter() - t0
+    lines = r.stderr.strip().splitlines()
+    assert r.returncode == 2, r.stderr
+    assert len(lines) == 1 and words in lines[0] and "Traceback" not in r.stderr, r.stderr
+    assert took < 60  # refused before any work (seconds, not the minutes the work would take)
+    assert not files["out"].exists() or not any(files["out"].rglob("*.stl"))  # nothing half-written
+
+
+def test_negative_coordinates_can_be_typed_the_usual_way(tmp_path, data_dir):
+    r = subprocess.run([sys.executable, "-m", "slicelab", "cut", str(data_dir / "pot.stl"), "--origin", "-3,2,60",
+                        "--normal", "0.1,-0.2,1", "--no-preview", "-o", str(tmp_path / "c")],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert slicelab.check(slicelab.load(tmp_path / "c" / "rear.stl")).watertight
+
+
+def test_cut_of_a_self_intersecting_part_is_closed_on_disk_and_names_the_loop(tmp_path):
+    slicelab.save(figure_eight_prism(), tmp_path / "eight.stl")
+    r = subprocess.run([sys.executable, "-m", "slicelab", "cut", str(tmp_path / "eight.stl"), "--z", "5",
+                        "--no-preview", "-o", str(tmp_path / "c")], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "crosses itself near (12, 4.8)" in r.stdout + r.stderr
+    for name in ("rear", "front"):
+        assert slicelab.check(slicelab.load(tmp_path / "c" / f"{name}.stl")).watertight
