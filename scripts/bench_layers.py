@@ -34,7 +34,6 @@ def _rss_kb() -> int:
 
 
 def child(path: str, z: float, p: float, repeat: int) -> dict:
-    import numpy as np
     import shapely
     import slicelab
     mesh = slicelab.load(path)

@@ -80,3 +80,25 @@ def mark(ok: bool) -> str:
 
 NOISE_NOTE = ("Timings come from a shared 2-core machine (other jobs may run at the same time): "
               "treat them as noisy, compare ratios from the same run.")
+
+
+
+def run_command(*args: str) -> tuple[float, float, str]:
+    """Wall-clock seconds, peak memory (MiB) and stdout of ``python -m slicelab ARGS``, as a user runs it
+    (interpreter start-up and imports included). Exit status 0 or 1 (a warned result) is accepted;
+    anything else raises with the command's error line."""
+    import tempfile
+    import time
+    with tempfile.TemporaryFile("w+") as err:
+        t0 = time.perf_counter()
+        proc = subprocess.Popen([sys.executable, "-m", "slicelab", *map(str, args)], stdout=subprocess.PIPE,
+                                stderr=err, text=True, cwd=ROOT)
+        stdout = proc.stdout.read()
+        proc.stdout.close()
+        _, status, usage = os.wait4(proc.pid, 0)
+        seconds = time.perf_counter() - t0
+        err.seek(0)
+        code = os.waitstatus_to_exitcode(status)
+        if code not in (0, 1):
+            raise RuntimeError(f"slicelab {' '.join(map(str, args))} failed: {err.read().strip()}")
+    return seconds, usage.ru_maxrss / 1024, stdout.strip()

@@ -4,7 +4,6 @@ Each step runs the real command line, as a user would, and stops at the first fa
 """
 from __future__ import annotations
 
-import shutil
 import subprocess
 import sys
 import time
