@@ -103,3 +103,26 @@ def test_real_cad_exports_repair_to_watertight(name):
     after = check(fixed.mesh)
     assert after.watertight and after.n_misoriented_edges == 0
     assert after.volume == pytest.approx(before.volume, rel=1e-9)
+
+
+@pytest.mark.parametrize("name", CAD_FILES)
+def test_real_cad_exports_cut_closed_after_repair(name, tmp_path):
+    path = CAD / name
+    if not path.exists():
+        pytest.skip("../shared/meshes is not present")
+    from slicelab.tasks import run_job
+    r = run_job("cut", path, {"repair": True, "preview": False}, tmp_path)
+    assert r.results["repair"]["n_snapped_vertices"] > 0
+    for part in ("rear", "front"):
+        if part in r.results:
+            assert check(load(tmp_path / f"{part}.stl")).watertight
+
+
+def test_noisy_mesh_cuts_closed_after_repair(rng, tmp_path):
+    from slicelab import cut
+    from slicelab.export import write_mesh
+    m = _noisy(concat(box((0, 0, 0), (20, 10, 10)), box((0, 0, 20), (10, 10, 30))), rng)
+    fixed = repair(m).mesh
+    for k, part in enumerate(cut(fixed, (0, 0, 5), (0.3, 0.1, 1))):
+        write_mesh(part, tmp_path / f"{k}.stl")
+        assert check(load(tmp_path / f"{k}.stl")).watertight
