@@ -4,6 +4,7 @@
 ``tasks.spec``              what a job is: `Job`, checked parameters, `JobResult`
 ``tasks.jobs``              the jobs (`JOBS`), `job_parameters`, `run_job`
 ``tasks.fabrication``       the cut, partition and slice jobs
+``tasks.limits``            work estimated from the part and refused up front when impossible
 ``tasks.executors``         `run_jobs`: in this process, local processes or Dask
 ``tasks.batch``             `run_batch` over a folder: reports, summary, resuming
 ==========================  =====================================================
