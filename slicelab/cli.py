@@ -251,6 +251,10 @@ def _run_split(args) -> int:
           f"facets; {pieces}" + (" (facing the viewer)" if r.parameters["visible_from"] is not None else ""))
     print(f"section: {s['section_segments']} segments, {s['section_loops']} loops, "
           f"{s['section_open_chains']} open chains, area {s['section_area']:.6g} mm2")
+    for n in ("front", "rear"):
+        if s.get(f"{n}_collapsed_in_float32"):
+            print(f"{n}.stl: {s[f'{n}_collapsed_in_float32']} sliver facets that float32 rounding collapsed "
+                  f"were left out")
     print(f"{_timings(r, 'split')}; total {sum(r.timings.values()):.2f} s; wrote {args.output}/")
     return 0
 

@@ -145,14 +145,14 @@ def align(mesh: Mesh) -> Alignment:
     """Move a scanned vessel so its axis of revolution is +z through the origin, rim up, base at z = 0.
 
     Up to four starts, in order of trust: the line the normal lines meet
-    (`normal_lines_axis`) [1]_ [2]_, then the principal axes
+    (`normal_lines_axis`, a linear line complex), then the principal axes
     (`principal_axis`). Each is refined by fitting concentric circles to
-    horizontal sections in its frame, linear in the shared centre and the
-    squared radii (Kåsa's algebraic fit, one radius per wall) [3]_, reweighted
-    with Tukey's biweight so that a handle or a spout loses its say [4]_; the
-    start whose circles fit best wins. The base (surface crossing the axis),
-    else the open boundary (the rim), else the centre of mass decides which
-    way is up.
+    horizontal sections in its frame (`refine_axis`: Kåsa's algebraic fit,
+    one radius per wall, reweighted with Tukey's biweight so that a handle
+    or a spout loses its say); the start whose circles fit best wins
+    (`normal_lines_axis` and `refine_axis` cite the papers). The base (surface
+    crossing the axis), else the open boundary (the rim), else the centre of
+    mass decides which way is up.
 
     Parameters
     ----------
@@ -174,17 +174,6 @@ def align(mesh: Mesh) -> Alignment:
     slicelab.artefacts.profile : cuts the aligned vessel through its axis.
     slicelab.artefacts.normal_lines_axis, slicelab.artefacts.principal_axis : starts.
     slicelab.artefacts.refine_axis : the concentric-circle refinement.
-
-    References
-    ----------
-    .. [1] H. Pottmann and J. Wallner, *Computational Line Geometry*, Springer, 2001.
-    .. [2] H. Pottmann, M. Peternell and B. Ravani, "An introduction to line geometry
-       with applications", *Computer-Aided Design* 31(1), 3-16, 1999.
-    .. [3] I. Kåsa, "A circle fitting procedure and its error analysis", *IEEE
-       Transactions on Instrumentation and Measurement* IM-25(1), 8-14, 1976.
-    .. [4] A. E. Beaton and J. W. Tukey, "The fitting of power series, meaning
-       polynomials, illustrated on band-spectroscopic data", *Technometrics*
-       16(2), 147-185, 1974.
 
     Examples
     --------

@@ -238,6 +238,7 @@ def shells(faces: np.ndarray, edges: dict | None = None) -> tuple[int, np.ndarra
     Parameters
     ----------
     faces : (n, 3) int ndarray
+        Vertex ids of each facet; the winding does not matter.
     edges : dict, optional
         `edge_table(faces)`, when already computed.
 
@@ -305,6 +306,7 @@ def edge_counts(faces: np.ndarray, edges: dict | None = None) -> EdgeCounts:
     Parameters
     ----------
     faces : (n, 3) int ndarray
+        Vertex ids of each facet, in winding order (it decides which edges are misoriented).
     edges : dict, optional
         `edge_table(faces)`, when already computed.
 

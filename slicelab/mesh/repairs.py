@@ -60,6 +60,17 @@ def near_vertex_pairs(vertices: np.ndarray, tolerance: float) -> np.ndarray:
     return np.sort(pairs.astype(np.int64), axis=1)
 
 
+# The sentence `RepairReport.changes` gives for each count that is not 0, in this order.
+_SENTENCES = (
+    ("n_snapped_vertices", "snapped {n} near-coincident vertices (within {tolerance:.2g} mm)"),
+    ("n_collapsed_removed", "removed {n} collapsed facets"),
+    ("n_duplicates_removed", "removed {n} duplicate facets"),
+    ("n_flipped", "reversed {n} facets to agree with their neighbours"),
+    ("n_shells_turned_outward", "turned {n} inside-out shells outward"),
+    ("n_non_orientable_shells", "{n} shells cannot be oriented (left as they are)"),
+)
+
+
 @dataclass(frozen=True)
 class RepairReport:
     """What `repair` changed.
@@ -99,20 +110,8 @@ class RepairReport:
 
     def changes(self) -> list[str]:
         """One sentence for each kind of change made."""
-        out = []
-        if self.n_snapped_vertices:
-            out.append(f"snapped {self.n_snapped_vertices} near-coincident vertices (within {self.tolerance:.2g} mm)")
-        if self.n_collapsed_removed:
-            out.append(f"removed {self.n_collapsed_removed} collapsed facets")
-        if self.n_duplicates_removed:
-            out.append(f"removed {self.n_duplicates_removed} duplicate facets")
-        if self.n_flipped:
-            out.append(f"reversed {self.n_flipped} facets to agree with their neighbours")
-        if self.n_shells_turned_outward:
-            out.append(f"turned {self.n_shells_turned_outward} inside-out shells outward")
-        if self.n_non_orientable_shells:
-            out.append(f"{self.n_non_orientable_shells} shells cannot be oriented (left as they are)")
-        return out
+        return [sentence.format(n=getattr(self, name), tolerance=self.tolerance)
+                for name, sentence in _SENTENCES if getattr(self, name)]
 
     def to_dict(self) -> dict:
         """Plain-Python dictionary, ready for JSON."""

@@ -59,8 +59,9 @@ class CutReport:
     Attributes
     ----------
     frame : Frame
-        The cutting plane.
+        The cutting plane, with the 2-D frame the caps are triangulated in.
     rear_cap, front_cap : Cap
+        The faces that close the rear and the front part.
     n_cut : int
         Input facets divided by the plane.
     n_in_plane : int

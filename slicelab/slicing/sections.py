@@ -261,6 +261,7 @@ def section(mesh: Mesh, origin, normal, *, max_gap: float = 1.0) -> Section:
     Returns
     -------
     Section
+        The cut segments and their closed loops, in the plane's 2-D frame.
 
     Examples
     --------

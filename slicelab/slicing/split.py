@@ -242,7 +242,7 @@ def split(mesh: Mesh, origin, normal, *, visible_from=None, max_gap: float = 1.0
     visible_from : (3,) array_like, optional
         A direction towards the viewer: only facets facing it (winding normal
         with a positive component along it) are kept in `front` and `rear`,
-        as the diary did for drawing. The section and the counts always
+        as a drawing shows them. The section and the counts always
         cover every facet.
     max_gap : float, default 1.0
         Passed to the section (joining of open chains, mm).

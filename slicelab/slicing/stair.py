@@ -20,12 +20,8 @@ Each cap's vertices are the split's own cut points, every split is taken
 along a coordinate plane with the cut points put exactly on it, so treads,
 risers and surface pieces meet edge to edge. Cut positions avoid the part's
 own vertex coordinates (no facet lies in a cutting plane). Both parts are
-checked; a joint that does not come out watertight raises `StairCutError`.
-
-See Also
---------
-slicelab.slicing.cut.cut : the flat cut.
-slicelab.slicing.partition.partition : cuts with flat or stair joints until every piece fits.
+checked; a joint that does not come out watertight raises `StairCutError`,
+and `slicelab.slicing.partition.partition` then falls back to a flat cut.
 
 References
 ----------
@@ -149,12 +145,27 @@ def _split_axis(soup: np.ndarray, axis: int, value: float, rows: np.ndarray) -> 
     return _AxisSplit(rear[..., q], front[..., q], rows[rs], rows[fs], dist, sub, rear, rs)
 
 
-def _cap_of(sp: _AxisSplit) -> Cap:
-    """The cap (facing +axis) that closes the rear pieces of a split."""
+def _split_at(soup: np.ndarray, lo: np.ndarray, hi: np.ndarray, axis: int, value: float, plane: str):
+    """The facets of `soup` (extents `lo`, `hi` along `axis`) that reach ``x_axis = value``, and their split.
+
+    Raises `StairCutError` when one of them lies in the plane; `plane` names the plane there.
+    """
+    rows = np.flatnonzero((lo <= value) & (hi >= value))
+    sp = _split_axis(soup, axis, value, rows)
+    if np.any(np.all(sp.dist == 0, axis=1)):
+        raise StairCutError(f"a facet lies in a {plane} plane")
+    return rows, sp
+
+
+def _cap_of(sp: _AxisSplit, plane: str) -> Cap:
+    """The cap (facing +axis) that closes the rear pieces of a split; `StairCutError` when it is open."""
     sel = np.flatnonzero(np.any(sp.dist >= 0, axis=1)[sp.rear_row])
     src = sp.rear_row[sel]
     s, e = plane_edges(sp.rear_turned[sel], sp.turned[src], sp.dist[src], -1)
-    return cap_segments(s, e, lambda pts: pts[:, :2])
+    cap = cap_segments(s, e, lambda pts: pts[:, :2])
+    if not cap.closed:
+        raise StairCutError(f"a {plane} plane's section did not close")
+    return cap
 
 
 def _replace_split(soup, lo, hi, rows, sp: _AxisSplit, axis: int):
@@ -173,13 +184,8 @@ def _replace_split(soup, lo, hi, rows, sp: _AxisSplit, axis: int):
 def _cut_axis(soup: np.ndarray, axis: int, value: float):
     """Split a closed soup by ``x_axis = value``: rear facets, front facets, the cap facing +axis."""
     lo, hi = soup[..., axis].min(axis=1), soup[..., axis].max(axis=1)
-    rows = np.flatnonzero((lo <= value) & (hi >= value))
-    sp = _split_axis(soup, axis, value, rows)
-    if np.any(np.all(sp.dist == 0, axis=1)):
-        raise StairCutError("a facet lies in a slab plane")
-    cap = _cap_of(sp)
-    if not cap.closed:
-        raise StairCutError("a slab plane's section did not close")
+    _, sp = _split_at(soup, lo, hi, axis, value, "slab")
+    cap = _cap_of(sp, "slab")
     below = hi < value
     above = lo > value
     return (np.concatenate([soup[below], sp.rear]), np.concatenate([soup[above], sp.front]),
@@ -263,13 +269,8 @@ def _terrace(tri: np.ndarray, a: int, b: int, bands: np.ndarray, q: np.ndarray, 
     lo, hi = soup[..., b].min(axis=1), soup[..., b].max(axis=1)
     caps = []
     for w in bands:  # over band planes
-        rows = np.flatnonzero((lo <= w) & (hi >= w))
-        sp = _split_axis(soup, b, w, rows)
-        if np.any(np.all(sp.dist == 0, axis=1)):
-            raise StairCutError("a facet lies in a band plane")
-        cap = _cap_of(sp)
-        if not cap.closed:
-            raise StairCutError("a band plane's section did not close")
+        rows, sp = _split_at(soup, lo, hi, b, w, "band")
+        cap = _cap_of(sp, "band")
         caps.append(cap.vertices[..., _UNPERM[b]])
         soup, lo, hi, _ = _replace_split(soup, lo, hi, rows, sp, b)
     # The surface outside the slab takes the points the band planes put on its edges (fans, no cascade).
@@ -286,10 +287,7 @@ def _terrace(tri: np.ndarray, a: int, b: int, bands: np.ndarray, q: np.ndarray, 
     treads = []
     lo, hi = allt[..., a].min(axis=1), allt[..., a].max(axis=1)
     for value in np.unique(q):  # over tread planes
-        rows = np.flatnonzero((lo <= value) & (hi >= value))
-        sp = _split_axis(allt, a, value, rows)
-        if np.any(np.all(sp.dist == 0, axis=1)):
-            raise StairCutError("a facet lies in a tread plane")
+        rows, sp = _split_at(allt, lo, hi, a, value, "tread")
         src_tag, src_cap = tag[rows], is_cap[rows]
         near = np.any(sp.dist >= 0, axis=1)
         row = sp.rear_row

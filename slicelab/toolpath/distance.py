@@ -112,11 +112,12 @@ def distance_field(tile: GridMask, index: SegmentIndex | None, levels) -> Distan
     Returns
     -------
     DistanceField
+        Exact at the corners of every cell a level crosses.
 
     See Also
     --------
     signed_mask_distance : the approximate field refined here.
-    level_rings : the level sets of the field.
+    level_rings : the level sets of the field, as simplified rings.
 
     Examples
     --------

@@ -93,6 +93,7 @@ def fill_lines(polygons: list[Polygon], spacing: float, angle: float = 45.0) -> 
     Returns
     -------
     FillLines
+        The intervals of the lines inside the region, in the frame where they are horizontal.
 
     See Also
     --------

@@ -374,10 +374,8 @@ def covered_pixels(shape, row0: int, col0: int, pixel_size: float, path: np.ndar
 
     Parameters
     ----------
-    shape : (h, w)
-        The window's shape; its first pixel is (`row0`, `col0`) of the world grid.
-    row0, col0 : int
-    pixel_size : float
+    shape, row0, col0, pixel_size
+        The window of the world grid, as for `slicelab.toolpath.raster.draw_polylines`.
     path : (k, 2) ndarray
         The polyline (mm).
     width : float or (k,) ndarray

@@ -150,6 +150,8 @@ class GridMask:
 class LayerRaster:
     """A section rasterised: one mask per group of islands whose boxes overlap.
 
+    `rasterize` makes one; `raster_hierarchy` gives the contour tree of its masks.
+
     Attributes
     ----------
     tiles : tuple of GridMask

@@ -23,6 +23,22 @@ def _axes(ax):
     return ax
 
 
+def _legend(ax):
+    """A legend with one entry per label, upper right (none when nothing is labelled)."""
+    handles, labels = ax.get_legend_handles_labels()
+    uniq = dict(zip(labels, handles))
+    if uniq:
+        ax.legend(uniq.values(), uniq.keys(), loc="upper right", fontsize=8)
+
+
+def _plot_rings(ax, polygons, **style):
+    """Every ring (exterior and holes) of `polygons`, closed, in one style."""
+    for p in polygons:
+        for r in (p.exterior, *p.holes):
+            q = np.vstack([r, r[:1]])
+            ax.plot(q[:, 0], q[:, 1], **style)
+
+
 # ------------------------------------------------------------- layer rasters and paths
 def plot_raster(raster, hierarchy=None, ax=None, *, cmap="tab10"):
     """The material mask with its contour tree, each contour coloured by depth.
@@ -49,10 +65,7 @@ def plot_raster(raster, hierarchy=None, ax=None, *, cmap="tab10"):
     for c, d in zip(h.contours, h.depth):
         ring = np.vstack([c, c[:1]])
         ax.plot(ring[:, 0], ring[:, 1], color=colours(int(d) % 10), lw=1.2, label=f"depth {d}")
-    handles, labels = ax.get_legend_handles_labels()
-    uniq = dict(zip(labels, handles))
-    if uniq:
-        ax.legend(uniq.values(), uniq.keys(), loc="upper right", fontsize=8)
+    _legend(ax)
     ax.set_xlabel("x (mm)")
     ax.set_ylabel("y (mm)")
     return ax
@@ -64,11 +77,12 @@ def plot_distance(perimeters, ax=None, *, tile: int = 0, cmap="magma"):
     Examples
     --------
     >>> import matplotlib; matplotlib.use("Agg")
-    >>> import slicelab
+    >>> from slicelab import layer_perimeters, section
     >>> from slicelab.samples import box
-    >>> per = slicelab.layer_perimeters(slicelab.section(box((0, 0, 0), (4, 3, 1)), (0, 0, .5), (0, 0, 1)),
-    ...                           pixel_size=0.1)
+    >>> per = layer_perimeters(section(box((0, 0, 0), (4, 3, 1)), (0, 0, .5), (0, 0, 1)), pixel_size=0.1)
     >>> ax = plot_distance(per)
+    >>> len(ax.images)
+    1
     """
     ax = _axes(ax)
     f = per_field = perimeters.fields[tile]
@@ -76,23 +90,13 @@ def plot_distance(perimeters, ax=None, *, tile: int = 0, cmap="magma"):
     im = ax.imshow(vals, origin="lower", extent=f.grid.extent, cmap=cmap, interpolation="nearest")
     ax.figure.colorbar(im, ax=ax, shrink=0.7, label="distance to the boundary (mm)")
     for k, polys in enumerate(perimeters.rings):
-        for p in polys:
-            for r in (p.exterior, *p.holes):
-                q = np.vstack([r, r[:1]])
-                ax.plot(q[:, 0], q[:, 1], color="cyan", lw=0.8,
-                        label=f"perimeters ({len(perimeters.levels)})" if k == 0 else None)
-    for polys, colour, name in ((perimeters.fill, "lime", "filling limit"),
-                                (perimeters.solid, "white", "solid filling limit")):
-        for p in polys:
-            for r in (p.exterior, *p.holes):
-                q = np.vstack([r, r[:1]])
-                ax.plot(q[:, 0], q[:, 1], color=colour, lw=0.8, ls="--", label=name)
+        _plot_rings(ax, polys, color="cyan", lw=0.8,
+                    label=f"perimeters ({len(perimeters.levels)})" if k == 0 else None)
+    _plot_rings(ax, perimeters.fill, color="lime", lw=0.8, ls="--", label="filling limit")
+    _plot_rings(ax, perimeters.solid, color="white", lw=0.8, ls="--", label="solid filling limit")
     for g in perimeters.gap_fill:
         ax.plot(g[:, 0], g[:, 1], color="deepskyblue", lw=1.5, label="gap fill")
-    handles, labels = ax.get_legend_handles_labels()
-    uniq = dict(zip(labels, handles))
-    if uniq:
-        ax.legend(uniq.values(), uniq.keys(), loc="upper right", fontsize=8)
+    _legend(ax)
     return ax
 
 

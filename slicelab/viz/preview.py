@@ -243,7 +243,7 @@ def draw_split(split, *, pixels: int = 700, axes=None):
     See Also
     --------
     render_depth : how each panel is drawn.
-    save_split_preview : the same as a PNG file.
+    save_split_preview : the same figure, written to a PNG file.
 
     Examples
     --------
