@@ -54,4 +54,6 @@ _LAZY = {
 __all__ = ["Mesh", "MeshFileError", "MeshReport", "check", "load", "repair", "save", "__version__", *_LAZY]
 
 
-__getattr__, __dir__ = attach(__name__, _LAZY, globals())
+__getattr__, __dir__ = attach(__name__, _LAZY, globals(),
+                              submodules=("geometry", "mesh", "slicing", "toolpath", "artefacts", "export", "viz",
+                                          "tasks", "samples"))

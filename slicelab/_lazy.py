@@ -11,8 +11,9 @@ import importlib
 __all__ = ["attach"]
 
 
-def attach(package: str, where: dict[str, str], eager: dict | None = None):
-    """Module ``__getattr__`` and ``__dir__`` for `package`, resolving `where` (name -> submodule).
+def attach(package: str, where: dict[str, str], eager: dict | None = None, submodules=()):
+    """Module ``__getattr__`` and ``__dir__`` for `package`, resolving `where` (name -> submodule)
+    and the `submodules` themselves (``slicelab.samples`` without importing it first).
 
     Examples
     --------
@@ -23,6 +24,10 @@ def attach(package: str, where: dict[str, str], eager: dict | None = None):
     namespace = eager if eager is not None else {}
 
     def __getattr__(name):
+        if name in submodules:
+            value = importlib.import_module(f".{name}", package)
+            namespace[name] = value
+            return value
         module = where.get(name)
         if module is None:
             raise AttributeError(f"module {package!r} has no attribute {name!r}")
@@ -31,6 +36,6 @@ def attach(package: str, where: dict[str, str], eager: dict | None = None):
         return value
 
     def __dir__():
-        return sorted(set(namespace) | set(where))
+        return sorted(set(namespace) | set(where) | set(submodules))
 
     return __getattr__, __dir__

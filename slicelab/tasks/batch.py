@@ -149,19 +149,9 @@ def _status(reasons) -> str:
 
 
 def _paths(out: Path, rel: str) -> tuple[Path, Path]:
-    """The report's path and the stem for a file's outputs, mirroring its place under DIR."""
-    r = Path(rel)
-    return out / r.parent / f"{r.name}.json", out / r.parent / Path(r.name).stem
-
-
-def _paths(out: Path, rel: str) -> tuple[Path, Path]:
     """The report's path and the folder of a file's outputs, mirroring its place under DIR."""
     r = Path(rel)
     return out / r.parent / f"{r.name}.json", out / r.parent / Path(r.name).stem
-
-
-def _now() -> str:
-    return datetime.now(timezone.utc).isoformat(timespec="milliseconds")
 
 
 def _mesh_reasons(report, params) -> list[dict]:
@@ -245,46 +235,6 @@ def _lost_report(path: Path, root: Path, task: str, params: dict, why: str) -> d
             "parameters": params, "status": "fail", "reasons": [reason("worker_lost", why)],
             "transient": True, "input": {}, "check": None, "results": {}, "outputs": {}, "timings": {},
             "started": _now(), "finished": _now()}
-
-
-def _up_to_date(report_path: Path, path: Path, out: Path, task: str, params: dict, retry_failed: bool):
-    try:
-        rep = json.loads(report_path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return None
-    if (rep.get("slicelab") != __version__ or rep.get("task") != task or rep.get("parameters") != params
-            or rep.get("transient") or rep.get("status") not in STATUSES
-            or (retry_failed and rep.get("status") == "fail")):
-        return None
-    try:
-        st = path.stat()
-    except OSError:
-        return None
-    inp = rep.get("input") or {}
-    if inp.get("size") != st.st_size:
-        return None
-    if inp.get("mtime_ns") != st.st_mtime_ns and inp.get("sha256") != _sha256(path):
-        return None
-    if not all((out / o).exists() for o in (rep.get("outputs") or {}).values()):
-        return None
-    return rep
-
-
-def _write_report(out: Path, rep: dict) -> None:
-    report_path, _ = _paths(out, rep["file"])
-    with atomic_open(report_path, "w", encoding="utf-8") as fh:
-        json.dump(rep, fh, indent=1, allow_nan=False)
-        fh.write("\n")
-
-
-def _fmt(v) -> str:
-    if v is None:
-        return ""
-    if isinstance(v, bool):
-        return "yes" if v else "no"
-    if isinstance(v, float):
-        return f"{v:.10g}"
-    return str(v)
 
 
 def _output_files(outputs: dict) -> list[str]:
@@ -440,12 +390,14 @@ def run_batch(root, out, task: str = "inspect", params: dict | None = None, *, w
     Returns
     -------
     BatchResult
+        Every file's report, and where the summary is; a second run skips the
+        files whose reports are up to date.
 
     Examples
     --------
     >>> import pathlib, tempfile, slicelab
-    >>> from slicelab.samples import box
-    >>> d = pathlib.Path(tempfile.mkdtemp()); slicelab.save(box((0, 0, 0), (10, 10, 10)), d / "in" / "cube.stl")
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> slicelab.save(slicelab.samples.box((0, 0, 0), (10, 10, 10)), d / "in" / "cube.stl")
     >>> r = run_batch(d / "in", d / "out", "inspect", workers=1, progress=False)
     >>> r.count("ok"), r.ran, run_batch(d / "in", d / "out", "inspect", workers=1, progress=False).skipped
     (1, 1, 1)
