@@ -16,7 +16,7 @@ import slicelab
 from slicelab import Mesh, samples
 from slicelab.cli import main
 from slicelab.tasks import ParameterError, batch, run_jobs
-from slicelab.tasks.batch import find_stl_files, run_batch, task_parameters
+from slicelab.tasks.batch import find_mesh_files, run_batch, task_parameters
 
 EXPECTED = {  # file -> (status, reason codes) for the profile task
     "pot.stl": ("ok", []),
@@ -85,11 +85,11 @@ def profile_run(folder, tmp_path_factory):
     return out, params, run_batch(folder, out, "profile", params, workers=1, progress=False)
 
 
-def test_find_stl_files(folder):
-    files, other = find_stl_files(folder)
+def test_find_mesh_files(folder):
+    files, other = find_mesh_files(folder)
     assert sorted(p.relative_to(folder).as_posix() for p in files) == sorted(EXPECTED)
     assert other == 2
-    kept, _ = find_stl_files(folder, patterns=("broken/*", "*.STL"))
+    kept, _ = find_mesh_files(folder, patterns=("broken/*", "*.STL"))
     assert len(kept) == len(EXPECTED) - 5
 
 

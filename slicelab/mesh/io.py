@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from ..export.files import atomic_path
+from .formats import is_scan_format, read_scan, unit_scale
 from .core import Mesh
 
 __all__ = ["MeshFileError", "load", "save"]
@@ -46,17 +47,24 @@ def _describe_foreign(head: bytes) -> str | None:
     return None
 
 
-def load(path) -> Mesh:
-    """Read a binary or ASCII STL file.
+def load(path, *, units: str | None = None, scale: float | None = None) -> Mesh:
+    """Read a mesh file: binary or ASCII STL, PLY (binary or ASCII) or OBJ.
 
-    Binary files are recognised by their size (84 bytes + 50 per triangle,
-    as the header's count claims), so a binary file whose header starts with
-    ``solid`` is still read as binary. ASCII files may hold several solids,
-    odd spacing and CRLF line ends.
+    STL binary files are recognised by their size (84 bytes + 50 per
+    triangle, as the header's count claims), so a binary file whose header
+    starts with ``solid`` is still read as binary. ASCII files may hold
+    several solids, odd spacing and CRLF line ends. PLY and OBJ (by their
+    ending, or a PLY by its first line) are read through meshio
+    (`slicelab.mesh.formats`); their faces of four or more corners become
+    triangles.
 
     Parameters
     ----------
     path : str or os.PathLike
+    units : {"mm", "cm", "m", "in"}, optional
+        The unit the file is written in; coordinates are scaled to mm.
+    scale : float, optional
+        A further factor applied to the coordinates.
 
     Returns
     -------
@@ -75,11 +83,19 @@ def load(path) -> Mesh:
     >>> m.triangles.shape[1:]
     (3, 3)
     """
-    p = Path(path)
+    factor = unit_scale(units, scale)
+    mesh = _read(Path(path))
+    if factor == 1.0:
+        return mesh
+    return Mesh(mesh.triangles * factor, mesh.file_normals)
+
+
+def _read(p: Path) -> Mesh:
+    """The mesh a file holds, in the file's own units."""
     if not p.exists():
         raise MeshFileError(p, "no such file")
     if p.is_dir():
-        raise MeshFileError(p, "is a directory, not an STL file")
+        raise MeshFileError(p, "is a directory, not a mesh file")
     try:
         st = p.stat()
     except OSError as exc:
@@ -95,6 +111,10 @@ def load(path) -> Mesh:
         raise MeshFileError(p, f"cannot be read ({exc.strerror or exc})") from None
     if size == 0:
         raise MeshFileError(p, "is empty")
+    kind = is_scan_format(p, head)
+    if kind is not None:
+        triangles, normals = read_scan(p, kind, lambda reason: MeshFileError(p, reason))
+        return _finish(p, triangles, normals)
 
     if size >= _HEADER + 4:
         count = int.from_bytes(head[_HEADER:_HEADER + 4], "little")

@@ -16,12 +16,12 @@ from .._lazy import attach
 # Submodule of each public name: they load on first use (matplotlib and the like are slow to import).
 _WHERE = {"Job": "spec", "JobInput": "spec", "JobResult": "spec", "ParameterError": "spec", "JOBS": "jobs",
           "job_parameters": "jobs", "run_job": "jobs", "run_jobs": "executors", "TASKS": "batch",
-          "BatchResult": "batch", "task_parameters": "batch", "find_stl_files": "batch",
+          "BatchResult": "batch", "task_parameters": "batch", "find_mesh_files": "batch",
           "process_file": "batch", "run_batch": "batch", "write_summary": "batch"}
 
 
 __all__ = ["Job", "JobInput", "JobResult", "ParameterError", "JOBS", "job_parameters", "run_job", "run_jobs",
-           "TASKS", "BatchResult", "task_parameters", "find_stl_files", "process_file", "run_batch",
+           "TASKS", "BatchResult", "task_parameters", "find_mesh_files", "process_file", "run_batch",
            "write_summary"]
 
 

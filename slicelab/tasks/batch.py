@@ -37,7 +37,7 @@ from .executors import run_jobs
 from .jobs import JOBS, job_parameters, run_job
 from .spec import ParameterError, number, plain, reason
 
-__all__ = ["TASKS", "BatchResult", "task_parameters", "find_stl_files", "process_file", "run_batch",
+__all__ = ["TASKS", "BatchResult", "task_parameters", "find_mesh_files", "process_file", "run_batch",
            "write_summary"]
 
 TASKS = ("inspect", "section", "split", "profile", "layers")
@@ -95,8 +95,12 @@ def task_parameters(task: str, *, origin=None, normal=None, min_size: float = 2.
     return {**p, **job_parameters(task, **options)}
 
 
-def find_stl_files(root, exclude=None, patterns=()) -> tuple[list[Path], int]:
-    """Every ``*.stl`` file under `root` (any case), sorted; and how many other files were passed over.
+_MESH_ENDINGS = (".stl", ".ply", ".obj")
+
+
+def find_mesh_files(root, exclude=None, patterns=()) -> tuple[list[Path], int]:
+    """Every mesh file (``.stl``, ``.ply``, ``.obj``, any case) under `root`, sorted; and how many
+    other files were passed over.
 
     Hidden files and folders (a leading dot: temporary ``.part`` files),
     anything under `exclude` (the output folder) and paths relative to `root`
@@ -105,11 +109,10 @@ def find_stl_files(root, exclude=None, patterns=()) -> tuple[list[Path], int]:
     Examples
     --------
     >>> import tempfile, pathlib
-    >>> d = pathlib.Path(tempfile.mkdtemp()); (d / "a.STL").write_bytes(b""); (d / "b.txt").write_text("")
-    0
-    0
-    >>> [p.name for p in find_stl_files(d)[0]], find_stl_files(d)[1]
-    (['a.STL'], 1)
+    >>> d = pathlib.Path(tempfile.mkdtemp())
+    >>> for name in ("a.STL", "b.txt", "c.ply", "d.obj"): _ = (d / name).write_text("")
+    >>> [p.name for p in find_mesh_files(d)[0]], find_mesh_files(d)[1]
+    (['a.STL', 'c.ply', 'd.obj'], 1)
     """
     root = Path(root)
     ex = Path(exclude).resolve() if exclude is not None else None
@@ -123,7 +126,7 @@ def find_stl_files(root, exclude=None, patterns=()) -> tuple[list[Path], int]:
                 continue
             if any(fnmatch.fnmatch((here / name).relative_to(root).as_posix(), pat) for pat in patterns):
                 continue
-            if name.lower().endswith(".stl"):
+            if name.lower().endswith(_MESH_ENDINGS):
                 found.append(here / name)
             else:
                 other += 1
@@ -409,7 +412,7 @@ def run_batch(root, out, task: str = "inspect", params: dict | None = None, *, w
         raise ValueError(f"{root}: not a folder")
     params = task_parameters(task, **(params or {}))  # checked, whoever made them
     out.mkdir(parents=True, exist_ok=True)
-    files, ignored = find_stl_files(root, exclude=out, patterns=tuple(exclude))
+    files, ignored = find_mesh_files(root, exclude=out, patterns=tuple(exclude))
     reports: dict[str, dict] = {}
     jobs = []
     for path in files:
