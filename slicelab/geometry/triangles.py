@@ -57,7 +57,7 @@ def winding_normals(triangles: np.ndarray) -> np.ndarray:
     for s in range(0, len(t), _BLOCK):  # blocks of facets keep the temporaries in cache
         n = edge_cross(t[s:s + _BLOCK])
         length = np.sqrt(np.einsum("ij,ij->i", n, n))
-        # Degenerate facets keep a zero normal rather than NaN, as seed 002 does.
+        # A facet of no area has no direction: its normal is zero rather than NaN.
         np.divide(n, length[:, None], out=n, where=length[:, None] > 0)
         n[length == 0] = 0.0
         out[s:s + _BLOCK] = n

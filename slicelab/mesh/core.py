@@ -30,7 +30,7 @@ class Mesh:
     ----------
     triangles : (n, 3, 3) float64 ndarray
     normals : (n, 3) float64 ndarray
-        Unit normals recomputed from the vertex order (seed 002).
+        Unit normals recomputed from the vertex order (right-hand rule).
     file_normals : (n, 3) float64 ndarray
         Normals as the file stored them (possibly zero or wrong).
 

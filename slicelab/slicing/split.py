@@ -1,4 +1,4 @@
-"""Depth segmentation: split a mesh by a plane into front, section and rear (seed 000).
+"""Depth segmentation: split a mesh by a plane into front, section and rear.
 
 Every facet goes whole to one side or is cut along the plane, by the rule the
 sections use: a corner whose signed distance is >= 0 counts as in front. So
@@ -17,6 +17,12 @@ order, exactly as the section computes it, so the two facets of an edge get
 the bit-identical point: front and rear meet edge to edge with no crack, and
 for a horizontal plane the cut points are the section's very points. Pieces
 keep their facet's winding and normal, and no piece has two equal corners.
+
+References
+----------
+.. [1] "Study on STL-based slicing process for 3D printing", Proceedings
+   of the Solid Freeform Fabrication Symposium, 2017 (Fig. 3: the patterns
+   in which a plane meets a facet).
 """
 from __future__ import annotations
 
@@ -31,9 +37,8 @@ from .sections import Section, section_from_distances
 
 __all__ = ["Split", "split", "split_facets", "classify", "corner_distances", "PATTERNS"]
 
-# What a plane does to one facet. The issue (after the paper's Fig. 3 as read by seed 000)
-# names the two cases that cut a facet: "c" (a corner in the plane, the opposite edge crossed)
-# and "e" (two edges crossed).
+# What a plane does to one facet, after the paper's Fig. 3 (References): the two cases that cut
+# a facet are "c" (a corner in the plane, the opposite edge crossed) and "e" (two edges crossed).
 PATTERNS = ("clear", "touch-vertex", "touch-edge", "in-plane", "c", "e")
 _CLEAR, _VERTEX, _EDGE, _IN_PLANE, _C, _E = range(len(PATTERNS))
 
