@@ -18,6 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from . import __version__
+from .mesh.formats import UNITS
 from .mesh.io import MeshFileError
 from .tasks.batch import TASKS
 from .tasks.jobs import JOBS, run_job
@@ -91,8 +92,9 @@ def _default(job: str, name: str):
 
 
 def _options(args, job: str, **more) -> dict:
-    """The job's parameters given on the command line, and `more`."""
-    return {**{n: getattr(args, n) for n in JOBS[job].defaults if hasattr(args, n)}, **more}
+    """The job's parameters given on the command line, how to read the file, and `more`."""
+    reading = {n: getattr(args, n) for n in ("units", "scale") if getattr(args, n, None) is not None}
+    return {**{n: getattr(args, n) for n in JOBS[job].defaults if hasattr(args, n)}, **reading, **more}
 
 
 def _add_plane_arguments(p: argparse.ArgumentParser) -> None:
@@ -148,6 +150,13 @@ def _negative_values(argv: list[str]) -> list[str]:
     return out
 
 
+def _warn(r, skip=()) -> None:
+    """Each warning the job found, as a sentence on stderr (its code is in the JSON reports)."""
+    for why in r.reasons:
+        if why["code"] not in skip:
+            print(f"slicelab: warning: {why['message']}", file=sys.stderr)
+
+
 def _say_repair(r) -> None:
     rep = r.results.get("repair")
     if rep is not None:
@@ -171,7 +180,7 @@ def _run_inspect(args) -> int:
     status = 0
     for path in args.files:
         try:
-            r = run_job("inspect", path)
+            r = run_job("inspect", path, _options(args, "inspect"))
         except MeshFileError as exc:
             print(f"slicelab: error: {exc}", file=sys.stderr)
             status = 2
@@ -182,6 +191,7 @@ def _run_inspect(args) -> int:
         else:
             print(f"== {path}  ({elapsed:.2f} s)")
             print(r.value)
+            _warn(r)
     return status
 
 
@@ -202,6 +212,7 @@ def _run_section(args) -> int:
           f"({s['holes']} holes), {s['open_chains']} open chains, {s['joined_gaps']} gaps joined, "
           f"area {s['area']:.6g} mm2")
     print(f"{_timings(r, 'section')}; wrote {args.output}")
+    _warn(r)
     return 0
 
 
@@ -224,6 +235,7 @@ def _run_layers(args) -> int:
     print(f"{args.file}: {r.n_facets} facets; {s['layers']} layers, {s['loops']} loops, "
           f"{s['open_chains']} open chains")
     print(f"{_timings(r, 'slice')}; wrote {args.output}/")
+    _warn(r)
     return 0
 
 
@@ -256,6 +268,7 @@ def _run_split(args) -> int:
             print(f"{n}.stl: {s[f'{n}_collapsed_in_float32']} sliver facets that float32 rounding collapsed "
                   f"were left out")
     print(f"{_timings(r, 'split')}; total {sum(r.timings.values()):.2f} s; wrote {args.output}/")
+    _warn(r)
     return 0
 
 
@@ -289,11 +302,10 @@ def _run_profile(args) -> int:
     if p.alignment is not None:
         print(f"{args.file}: {r.n_facets} facets; {p.alignment!r}")
     print(p.measurements)
-    if any(x["code"] == "not_revolution" for x in r.reasons):
-        print("warning: not a solid of revolution; the drawn half is not typical of the others")
     t = r.timings
     print(f"load {t['load']:.2f} s, align + profile {t['compute']:.2f} s, drawing {t['write']:.2f} s; "
           f"wrote {args.output}")
+    _warn(r)
     return 0
 
 
@@ -347,6 +359,7 @@ def _run_batch(args) -> int:
         options["origin"], options["normal"] = plane
     # Every task option given goes to the task, which refuses the ones it does not take.
     options.update({n: getattr(args, n) for task in TASKS for n in JOBS[task].defaults if hasattr(args, n)})
+    options.update({n: getattr(args, n) for n in ("units", "scale") if getattr(args, n, None) is not None})
     params = task_parameters(args.task, **options)
     result = run_batch(args.folder, args.output, args.task, params, workers=args.workers,
                        scheduler=args.scheduler, force=args.force, retry_failed=args.retry_failed,
@@ -385,8 +398,7 @@ def _run_cut(args) -> int:
         print(f"{name}.stl: {part['facets']} facets, volume {part['volume']:.6g} mm3, "
               f"{'watertight' if part['watertight'] else 'NOT watertight'} as written")
     print(f"{_timings(r, 'cut')}; wrote {args.output}/")
-    for why in r.reasons:
-        print(f"slicelab: warning: {why['message']}", file=sys.stderr)
+    _warn(r)
     if not all(r.results[n]["watertight"] for n in ("rear", "front") if n in r.results):
         print("slicelab: error: the parts are not watertight as written", file=sys.stderr)
         return 1
@@ -488,6 +500,12 @@ def build_parser() -> argparse.ArgumentParser:
     sub.required = True
     for name in COMMANDS:
         globals()[f"_add_{name}"](sub)
+    for p in sub.choices.values():  # every command reads mesh files: their units
+        g = p.add_argument_group("units of the input")
+        g.add_argument("--units", choices=tuple(UNITS), default=None,
+                       help="the unit the file is written in (default mm); coordinates are scaled to mm")
+        g.add_argument("--scale", type=_positive, default=None, metavar="F",
+                       help="a further factor for the coordinates")
     return parser
 
 

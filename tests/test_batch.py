@@ -25,7 +25,7 @@ EXPECTED = {  # file -> (status, reason codes) for the profile task
     "cube.stl": ("warn", ["not_revolution"]),
     "open_pot.stl": ("warn", ["not_watertight"]),
     "nested.stl": ("warn", ["several_shells", "not_revolution"]),
-    "pot_in_metres.stl": ("warn", ["implausible_size"]),
+    "pot_in_metres.stl": ("warn", ["units?"]),
     "broken/truncated.stl": ("fail", ["unreadable"]),
     "broken/photo.stl": ("fail", ["unreadable"]),
     "broken/empty.stl": ("fail", ["unreadable"]),

@@ -77,3 +77,27 @@ def test_batch_takes_a_folder_mixing_formats(tmp_path):
     assert all(r["status"] == "ok" for r in result.reports), [r["reasons"] for r in result.reports]
     vols = [r["results"]["volume"] for r in result.reports]
     assert max(vols) == pytest.approx(min(vols), rel=1e-9)
+
+
+def test_a_file_in_metres_warns_and_units_m_gives_millimetres(tmp_path, data_dir):
+    import json
+    import subprocess
+    import sys
+    m = load(data_dir / "pot.stl")
+    save(slicelab.Mesh(m.triangles / 1000), tmp_path / "pot_m.stl")
+
+    def profile(*extra):
+        out = tmp_path / f"p{len(extra)}"
+        r = subprocess.run([sys.executable, "-m", "slicelab", "profile", str(tmp_path / "pot_m.stl"), "-o",
+                            str(out / "p.svg"), "--json", str(out / "p.json"), *extra],
+                           capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+        return r, json.loads((out / "p.json").read_text())
+
+    r, bare = profile()
+    assert "written in metres? (--units m" in r.stderr
+    r, mm = profile("--units", "m")
+    assert "units" not in r.stderr
+    truth = slicelab.profile(m).measurements
+    assert mm["measurements"]["height"] == pytest.approx(truth.height, rel=1e-5)
+    assert bare["measurements"]["height"] == pytest.approx(truth.height / 1000, rel=1e-5)

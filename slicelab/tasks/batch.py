@@ -34,8 +34,9 @@ from .. import __version__
 from ..export.files import atomic_open
 from ..mesh.io import MeshFileError
 from .executors import run_jobs
+from .limits import likely_units
 from .jobs import JOBS, job_parameters, run_job
-from .spec import ParameterError, number, plain, reason
+from .spec import ParameterError, choice, number, plain, reason
 
 __all__ = ["TASKS", "BatchResult", "task_parameters", "find_mesh_files", "process_file", "run_batch",
            "write_summary"]
@@ -43,11 +44,11 @@ __all__ = ["TASKS", "BatchResult", "task_parameters", "find_mesh_files", "proces
 TASKS = ("inspect", "section", "split", "profile", "layers")
 STATUSES = ("ok", "warn", "fail")
 _FAILING = {"unreadable", "task_error", "task_unavailable", "worker_lost"}
-_BATCH = ("min_size", "max_size")  # parameters of the batch itself, beside the job's
+_BATCH = ("min_size", "max_size", "units", "scale")  # parameters of the batch itself, beside the job's
 
 
 def task_parameters(task: str, *, origin=None, normal=None, min_size: float = 2.0, max_size: float = 5000.0,
-                    **options) -> dict:
+                    units: str | None = None, scale: float | None = None, **options) -> dict:
     """Check and normalise a batch's parameters into plain JSON values.
 
     The result is stored in every report and compared on reruns: a report
@@ -61,7 +62,10 @@ def task_parameters(task: str, *, origin=None, normal=None, min_size: float = 2.
         plane at each part's mid-height.
     min_size, max_size : float
         A part whose largest dimension (mm) lies outside is flagged
-        "implausible size" (wrong units?).
+        ``units?``, with the unit that would make it plausible.
+    units, scale : optional
+        How the files are written (`slicelab.load`): their coordinates are
+        scaled to millimetres.
     **options
         The job's parameters (`slicelab.tasks.jobs.job_parameters`), such as
         ``layer_height`` for ``layers`` or ``planes``, ``side``, ``png`` for ``profile``.
@@ -85,6 +89,11 @@ def task_parameters(task: str, *, origin=None, normal=None, min_size: float = 2.
     p = {"min_size": number("min_size", min_size, low=0), "max_size": number("max_size", max_size)}
     if not p["min_size"] < p["max_size"]:
         raise ParameterError("min_size", "must be >= 0 and below max_size")
+    if units is not None:
+        from ..mesh import UNITS
+        p["units"] = choice("units", units, tuple(UNITS))
+    if scale is not None:
+        p["scale"] = number("scale", scale, positive=True)
     if origin is not None or normal is not None:
         if (origin is None) != (normal is None):
             raise ParameterError("origin", "and normal go together: give both, or neither "
@@ -166,10 +175,9 @@ def _mesh_reasons(report, params) -> list[dict]:
         reasons.append(reason("several_shells", f"several shells ({report.n_shells})"))
     lo, hi = np.asarray(report.bounds, float)
     size = float((hi - lo).max())
-    if not (params["min_size"] <= size <= params["max_size"]):
-        reasons.append(reason("implausible_size", f"implausible size: largest dimension {size:.6g} mm, "
-                                                   f"expected {params['min_size']:g} to {params['max_size']:g} mm "
-                                                   f"(wrong units?)"))
+    hint = likely_units(size, params["min_size"], params["max_size"])
+    if hint is not None:
+        reasons.append(reason("units?", f"implausible size: {hint}"))
     return reasons
 
 
@@ -204,7 +212,7 @@ def process_file(path, root, out, task: str, params: dict) -> dict:
         st = path.stat()
         rep["input"] = {"sha256": _sha256(path), "size": st.st_size, "mtime_ns": st.st_mtime_ns}
         t1 = time.perf_counter()
-        mesh = load(path)
+        mesh = load(path, **{k: params[k] for k in ("units", "scale") if params.get(k) is not None})
         t2 = time.perf_counter()
         report = check(mesh)
         t3 = time.perf_counter()
@@ -215,7 +223,7 @@ def process_file(path, root, out, task: str, params: dict) -> dict:
         result = run_job(task, path, job_params, folder, mesh=mesh, check=report)
         timings["task"] = time.perf_counter() - t3
         rep["outputs"], rep["results"] = result.relative_outputs(out), result.results
-        reasons += result.reasons
+        reasons += [r for r in result.reasons if r["code"] not in {q["code"] for q in reasons}]
     except MeshFileError as exc:
         reasons.append(reason("unreadable", exc.reason))
     except OSError as exc:

@@ -32,7 +32,7 @@ import numpy as np
 
 from ..export.files import atomic_open
 from .fabrication import CUT, PARTITION, SLICE
-from .limits import check_layers, check_planes
+from .limits import check_layers, check_planes, likely_units
 from .spec import (
     Job,
     JobInput,
@@ -325,15 +325,28 @@ def run_job(name: str, source, params: dict | None = None, folder=None, *, paths
     job = JOBS.get(name)
     if job is None:
         raise ValueError(f"unknown job {name!r}; choose one of {', '.join(JOBS)}")
-    params = job.check_parameters(**(params or {}))
+    params = dict(params or {})
+    # The file's units are how it is read, not what the job does: checked here for every job.
+    reading = {k: params.pop(k) for k in ("units", "scale") if params.get(k) is not None}
+    params = job.check_parameters(**params)
+    if reading:
+        from ..mesh import UNITS
+        if "units" in reading:
+            choice("units", reading["units"], tuple(UNITS))
+        if "scale" in reading:
+            reading["scale"] = number("scale", reading["scale"], positive=True)
+        params = {**params, **reading}
     if folder is not None:
         check_output_dir(folder)
     timings = {}
     if mesh is None:
         from ..mesh import load
         t0 = time.perf_counter()
-        mesh = load(source)
+        mesh = load(source, **reading)
         timings["load"] = time.perf_counter() - t0
+    elif reading:
+        from ..mesh import Mesh, unit_scale
+        mesh = Mesh(mesh.triangles * unit_scale(**reading), mesh.file_normals)
     repaired = None
     if params.get("repair"):
         from ..mesh import repair
@@ -353,6 +366,10 @@ def run_job(name: str, source, params: dict | None = None, folder=None, *, paths
     results, reasons = job.report(value, inp, params)
     results = {**results, **written.get("results", {})}
     reasons = list(reasons) + list(written.get("reasons", []))
+    if len(mesh):
+        size = likely_units(float(np.ptp(mesh.triangles.reshape(-1, 3), axis=0).max()))
+        if size is not None and not any(r["code"] == "units?" for r in reasons):
+            reasons.append(reason("units?", size))
     if repaired is not None:
         results["repair"] = repaired.to_dict()
     timings.update(compute=t1 - t0, write=t2 - t1)

@@ -17,7 +17,7 @@ import numpy as np
 
 from .spec import ParameterError
 
-__all__ = ["MIN_LAYER_HEIGHT", "MIN_PIXEL_SIZE", "MAX_LAYERS", "MAX_PLANES", "MAX_STAIR_BANDS", "memory_budget",
+__all__ = ["likely_units", "MIN_LAYER_HEIGHT", "MIN_PIXEL_SIZE", "MAX_LAYERS", "MAX_PLANES", "MAX_STAIR_BANDS", "memory_budget",
            "check_layers", "check_print", "check_planes", "check_partition"]
 
 MIN_LAYER_HEIGHT = 1e-3   # mm: one micrometre, far below any printer or scanner
@@ -153,3 +153,30 @@ def check_partition(mesh, volume, *, joint: str, step, max_pieces: int = 512) ->
         if bands > MAX_STAIR_BANDS:
             raise ParameterError("step", f"{min(h, d):g} mm makes about {bands:.0f} stair teeth across a joint "
                                          f"of a part {float(e.max()):.4g} mm across (at most {MAX_STAIR_BANDS})")
+
+
+def likely_units(size: float, low: float = 2.0, high: float = 5000.0) -> str | None:
+    """A sentence naming the unit a part of largest dimension `size` (read as mm) was likely written in,
+    when that size is implausible for a lab's objects; None when it is plausible.
+
+    Examples
+    --------
+    >>> likely_units(0.14)
+    'the part is 0.14 mm across: written in metres? (--units m makes it 140 mm)'
+    >>> likely_units(120.0) is None
+    True
+    """
+    if low <= size <= high:
+        return None
+    from ..mesh.formats import UNITS
+    # The unit that brings the size nearest the middle of the plausible range (in log scale).
+    target = math.sqrt(low * high)
+    names = {"m": "metres", "cm": "centimetres", "in": "inches"}
+    if size < low:
+        unit = min(names, key=lambda u: abs(math.log(size * UNITS[u] / target)))
+        return (f"the part is {size:.4g} mm across: written in {names[unit]}? "
+                f"(--units {unit} makes it {size * UNITS[unit]:.4g} mm)")
+    factor = 10 ** math.ceil(math.log10(size / target))
+    return f"the part is {size:.4g} mm across: written in a smaller unit? (--scale {1 / factor:g} makes it " \
+           f"{size / factor:.4g} mm)"
+
