@@ -361,9 +361,14 @@ def _run_batch(args) -> int:
     options.update({n: getattr(args, n) for task in TASKS for n in JOBS[task].defaults if hasattr(args, n)})
     options.update({n: getattr(args, n) for n in ("units", "scale") if getattr(args, n, None) is not None})
     params = task_parameters(args.task, **options)
-    result = run_batch(args.folder, args.output, args.task, params, workers=args.workers,
-                       scheduler=args.scheduler, force=args.force, retry_failed=args.retry_failed,
-                       progress=False if args.no_progress else None, exclude=args.exclude)
+    from .tasks.executors import NoWorkersLeft
+    try:
+        result = run_batch(args.folder, args.output, args.task, params, workers=args.workers,
+                           scheduler=args.scheduler, force=args.force, retry_failed=args.retry_failed,
+                           progress=False if args.no_progress else None, exclude=args.exclude)
+    except NoWorkersLeft as exc:
+        print(f"slicelab: error: {exc}", file=sys.stderr)
+        return 1
     print(result)
     for rep in result.reports:
         if rep["status"] != "ok":

@@ -6,6 +6,7 @@ import importlib.util
 import json
 import os
 import sys
+import time
 import xml.etree.ElementTree as ET
 from pathlib import Path
 
@@ -299,3 +300,83 @@ def test_run_jobs_reports_jobs_whose_process_died():
     run_jobs(os._exit, [(3,), (4,)], workers=2, on_done=lambda job, r, lost: done.append((job, r, lost)))
     assert sorted(job for job, _, _ in done) == [(3,), (4,)]
     assert all(r is None and "__main__" in lost for _, r, lost in done)
+
+
+def test_dask_with_relative_paths_and_workers_in_another_folder(tmp_path, monkeypatch):
+    distributed = pytest.importorskip("distributed")
+    scans = tmp_path / "here" / "scans"
+    slicelab.save(samples.box((0, 0, 0), (10, 10, 10)), scans / "cube.stl")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None,
+                                  silence_logs=50) as cluster:
+        monkeypatch.chdir(tmp_path / "here")  # the workers stay where they started
+        result = run_batch(Path("scans"), Path("out"), "inspect", scheduler=cluster.scheduler_address,
+                           progress=False)
+    assert [r["status"] for r in result.reports] == ["ok"]
+
+
+def test_a_cluster_with_no_worker_left_ends_with_a_clear_error(tmp_path, monkeypatch):
+    distributed = pytest.importorskip("distributed")
+    from slicelab.tasks import executors
+    monkeypatch.setattr(executors, "_NO_WORKER_WAIT", 1.0)
+    scans = tmp_path / "scans"
+    for k in range(3):
+        slicelab.save(samples.box((0, 0, 0), (10 + k, 10, 10)), scans / f"box{k}.stl")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None,
+                                  silence_logs=50) as cluster:
+        with distributed.Client(cluster) as c:
+            c.retire_workers(list(c.scheduler_info()["workers"]))  # every worker gone
+            deadline = time.time() + 30
+            while c.scheduler_info()["workers"] and time.time() < deadline:
+                time.sleep(0.1)
+        t0 = time.time()
+        with pytest.raises(executors.NoWorkersLeft, match="no worker left"):
+            run_batch(scans, tmp_path / "out", "inspect", scheduler=cluster.scheduler_address, progress=False)
+        assert time.time() - t0 < 60
+    rows = read_summary(tmp_path / "out")
+    assert [r["status"] for r in rows] == ["fail"] * 3 and all("no worker left" in r["messages"] for r in rows)
+
+
+def _descendants(pid: int) -> set[int]:
+    """Every living process below `pid` (from /proc)."""
+    children: dict[int, list[int]] = {}
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                with open(f"/proc/{entry}/stat") as fh:
+                    ppid = int(fh.read().rsplit(")", 1)[1].split()[1])
+            except (OSError, ValueError, IndexError):
+                continue
+            children.setdefault(ppid, []).append(int(entry))
+    out, stack = set(), [pid]
+    while stack:
+        for c in children.get(stack.pop(), []):
+            out.add(c)
+            stack.append(c)
+    return out
+
+
+@pytest.mark.skipif(not Path("/proc").is_dir(), reason="needs /proc (Linux)")
+def test_killing_a_batch_ends_its_worker_processes(tmp_path):
+    import signal
+    import subprocess
+    scans = tmp_path / "scans"
+    for k in range(8):
+        slicelab.save(samples.pot(40, 120), scans / f"pot{k}.stl")
+    proc = subprocess.Popen([sys.executable, "-m", "slicelab", "batch", str(scans), "-o", str(tmp_path / "out"),
+                             "--task", "profile", "--workers", "2", "--no-progress"],
+                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    deadline = time.time() + 60
+    below = set()
+    while time.time() < deadline and len(below) < 3:  # the fork server and two workers
+        time.sleep(0.2)
+        below = _descendants(proc.pid)
+    assert len(below) >= 2, "the batch never started its workers"
+    os.kill(proc.pid, signal.SIGKILL)
+    proc.wait()
+    deadline = time.time() + 30
+    alive = below
+    while alive and time.time() < deadline:
+        time.sleep(0.2)
+        alive = {p for p in alive if Path(f"/proc/{p}").exists()
+                 and "Z" not in Path(f"/proc/{p}/stat").read_text().rsplit(")", 1)[1].split()[0]}
+    assert not alive, f"worker processes still running after the batch was killed: {sorted(alive)}"

@@ -415,7 +415,8 @@ def run_batch(root, out, task: str = "inspect", params: dict | None = None, *, w
     """
     from tqdm import tqdm
     t0 = time.perf_counter()
-    root, out = Path(root), Path(out)
+    # Absolute paths: a Dask worker runs in its own working directory.
+    root, out = Path(root).resolve(), Path(out).resolve()
     if not root.is_dir():
         raise ValueError(f"{root}: not a folder")
     params = task_parameters(task, **(params or {}))  # checked, whoever made them
