@@ -40,6 +40,7 @@ _LAZY = {
     "Split": "slicing.split", "split": "slicing.split",
     "cut": "slicing.cut", "Cut": "slicing.cut", "CutWarning": "slicing.cut",
     "partition": "slicing.partition", "Partition": "slicing.partition",
+    "arrange": "slicing.plates", "Plates": "slicing.plates",
     "stair_cut": "slicing.stair", "StairCut": "slicing.stair", "StairCutError": "slicing.stair",
     "align": "artefacts.axis", "Alignment": "artefacts.axis", "profile": "artefacts.profiles",
     "Profile": "artefacts.profiles", "Measurements": "artefacts.measure",

@@ -429,8 +429,48 @@ def _add_partition(sub) -> None:
     p.add_argument("--no-rotate", dest="rotate", action="store_false", default=_GIVEN,
                    help="do not turn pieces about z to fit")
     p.add_argument("-o", "--output", type=Path, required=True, metavar="DIR")
+    p.add_argument("--plates", action="store_true", default=_GIVEN,
+                   help="also pack the pieces onto as few build plates as they fit: DIR/plate_NN.stl, "
+                        "DIR/plates.json, DIR/plate_NN.png")
+    p.add_argument("--spacing", type=float, default=_GIVEN, metavar="MM",
+                   help="gap between pieces on a plate (default 5 mm)")
     _no_preview(p, "exploded.png")
     _repair_flag(p)
+
+
+def _say_plates(res: dict) -> None:
+    print(f"plates: {res['pieces']} pieces on {res['plates_used']} plates (one per plate: {res['one_per_plate']}; "
+          f"at least {res['lower_bound']} by area); "
+          + ", ".join(f"plate {k + 1} {100 * f:.0f} % covered" for k, f in enumerate(res["fill"])))
+
+
+def _add_arrange(sub) -> None:
+    p = sub.add_parser("arrange", help="pack pieces onto as few build plates as they fit",
+                       description="Lay each piece (one per file) on its largest flat face that fits, turn "
+                                   "it about z and pack the pieces onto build plates; write DIR/plate_NN.stl "
+                                   "(the pieces in place: slice it as one print), DIR/plates.json (placements) "
+                                   "and a top view DIR/plate_NN.png of each plate.")
+    p.add_argument("files", type=Path, nargs="+", metavar="PART")
+    p.add_argument("--volume", type=_volume, required=True, metavar="XxYxZ", help="build volume in mm")
+    p.add_argument("--spacing", type=float, default=5.0, metavar="MM", help="gap between pieces (default 5 mm)")
+    p.add_argument("--no-rotate", dest="rotate", action="store_false", help="do not turn pieces about z")
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="DIR")
+    p.add_argument("--no-preview", dest="preview", action="store_false", help="do not draw plate_NN.png")
+
+
+def _run_arrange(args) -> int:
+    from .tasks.jobs import check_output_dir
+    from .tasks.plates import arrange_files
+    check_output_dir(args.output)
+    if not (args.spacing >= 0):
+        raise UsageError("--spacing must be >= 0")
+    res, why = arrange_files(args.files, args.volume, args.output, spacing=args.spacing, rotate=args.rotate,
+                             preview=args.preview, units=args.units, scale=args.scale)
+    _say_plates(res)
+    print(f"wrote {args.output}/")
+    for w in why:
+        print(f"slicelab: warning: {w['message']}", file=sys.stderr)
+    return 0
 
 
 def _run_partition(args) -> int:
@@ -438,6 +478,8 @@ def _run_partition(args) -> int:
     _say_repair(r)
     print(f"{args.file}: {r.n_facets} facets")
     written = [w["watertight"] for w in r.results["written"].values()]
+    if "plates" in r.results:
+        _say_plates(r.results["plates"])
     print(r.value.report.describe(watertight=written))
     print(f"{_timings(r, 'partition')}; wrote {args.output}/ (pieces placed for printing; "
           f"watertight as read back from the files)")
@@ -471,8 +513,16 @@ def _add_slice(sub) -> None:
     p.add_argument("--top-layers", type=int, default=_GIVEN, metavar="N")
     p.add_argument("--bottom-layers", type=int, default=_GIVEN, metavar="N")
     p.add_argument("--pixel-size", type=_positive, default=_GIVEN, metavar="MM")
-    p.add_argument("--nozzle-temperature", type=float, default=_GIVEN, metavar="C")
-    p.add_argument("--bed-temperature", type=float, default=_GIVEN, metavar="C")
+    p.add_argument("--infill-pattern", choices=("rectilinear", "concentric", "gyroid"), default=_GIVEN)
+    for flag, kind, meta, text in (  # the printer and the G-code (PrintSettings' defaults in brackets)
+            ("--gcode-resolution", float, "MM", "paths simplified to this tolerance [0.0125]"),
+            ("--nozzle-temperature", float, "C", None), ("--bed-temperature", float, "C", None),
+            ("--fan-speed", float, "PCT", "part-cooling fan [100]"), ("--fan-off-layers", int, "N", "[1]"),
+            ("--skirt-loops", int, "N", "[1]; 0: none"), ("--skirt-distance", float, "MM", "[6]"),
+            ("--brim-width", float, "MM", "[0]: none"), ("--bed-size", str, "XxY", "[250x210]"),
+            ("--max-height", float, "MM", "[210]"), ("--acceleration", float, "MM/S2", "time estimate [1000]"),
+            ("--jerk", float, "MM/S", "time estimate: speed change at corners [8]")):
+        p.add_argument(flag, type=kind, default=_GIVEN, metavar=meta, help=text)
     p.add_argument("--workers", type=int, default=_GIVEN, metavar="N", help="processes (default: all cores)")
     p.add_argument("--preview", dest="preview_dir", type=Path, default=None, metavar="DIR",
                    help="also write DIR/layer_*.svg and DIR/preview.png")
@@ -492,7 +542,7 @@ def _run_slice(args) -> int:
     return 0
 
 
-COMMANDS = ["inspect", "section", "layers", "split", "profile", "batch", "cut", "partition", "slice"]
+COMMANDS = ["inspect", "section", "layers", "split", "profile", "batch", "cut", "partition", "arrange", "slice"]
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -8,6 +8,7 @@
 ``slicing.stair``           `stair_cut` -> `StairCut`: an interlocking stair joint
 ``slicing.partition``       `partition` -> `Partition`: printable pieces, flat or stair joints
 ``slicing.placement``       each piece laid on a flat face, turned to fit, centred on the bed
+``slicing.plates``          `arrange` pieces onto as few build plates as they fit
 ==========================  =====================================================
 
 The functions named like their module (`split`, `cut`, `partition`) are
@@ -20,6 +21,7 @@ from .cap import Cap, cap_segments, plane_edges, triangle_min_angles
 from .cut import Cut, CutReport, CutWarning
 from .partition import Joint, Partition, PartitionReport, Piece
 from .placement import DIRECTIONS, Placement, fit_rotation, flat_faces, place_for_printing
+from .plates import Plate, Plates, arrange, footprint
 from .sections import (
     Section,
     layer_heights,
@@ -30,4 +32,4 @@ from .sections import (
 from .split import PATTERNS, Split, classify, corner_distances, split_facets
 from .stair import StairCut, StairCutError, axis_plane, stair_cut
 
-__all__ = ["Section", "section", "slice_layers", "layer_heights", "section_from_distances", "Split", "split_facets", "classify", "corner_distances", "PATTERNS", "Cap", "plane_edges", "cap_segments", "triangle_min_angles", "Cut", "CutReport", "CutWarning", "stair_cut", "StairCut", "StairCutError", "axis_plane", "Joint", "Piece", "PartitionReport", "Partition", "fit_rotation", "Placement", "place_for_printing", "flat_faces", "DIRECTIONS"]
+__all__ = ["Section", "section", "slice_layers", "layer_heights", "section_from_distances", "Split", "split_facets", "classify", "corner_distances", "PATTERNS", "Cap", "plane_edges", "cap_segments", "triangle_min_angles", "Cut", "CutReport", "CutWarning", "stair_cut", "StairCut", "StairCutError", "axis_plane", "Joint", "Piece", "PartitionReport", "Partition", "fit_rotation", "Placement", "place_for_printing", "flat_faces", "DIRECTIONS", "Plate", "Plates", "arrange", "footprint"]

@@ -5,6 +5,7 @@
 ``tasks.jobs``              the jobs (`JOBS`), `job_parameters`, `run_job`
 ``tasks.fabrication``       the cut, partition and slice jobs
 ``tasks.limits``            work estimated from the part and refused up front when impossible
+``tasks.plates``            build plates written: one STL each, placements, top views
 ``tasks.executors``         `run_jobs`: in this process, local processes or Dask
 ``tasks.batch``             `run_batch` over a folder: reports, summary, resuming
 ==========================  =====================================================
@@ -14,13 +15,13 @@ from __future__ import annotations
 from .._lazy import attach
 
 # Submodule of each public name: they load on first use (matplotlib and the like are slow to import).
-_WHERE = {"Job": "spec", "JobInput": "spec", "JobResult": "spec", "ParameterError": "spec", "JOBS": "jobs",
+_WHERE = {"write_plates": "plates", "arrange_files": "plates", "Job": "spec", "JobInput": "spec", "JobResult": "spec", "ParameterError": "spec", "JOBS": "jobs",
           "job_parameters": "jobs", "run_job": "jobs", "run_jobs": "executors", "TASKS": "batch",
           "BatchResult": "batch", "task_parameters": "batch", "find_mesh_files": "batch",
           "process_file": "batch", "run_batch": "batch", "write_summary": "batch"}
 
 
-__all__ = ["Job", "JobInput", "JobResult", "ParameterError", "JOBS", "job_parameters", "run_job", "run_jobs",
+__all__ = ["write_plates", "arrange_files", "Job", "JobInput", "JobResult", "ParameterError", "JOBS", "job_parameters", "run_job", "run_jobs",
            "TASKS", "BatchResult", "task_parameters", "find_mesh_files", "process_file", "run_batch",
            "write_summary"]
 

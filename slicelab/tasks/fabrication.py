@@ -106,16 +106,18 @@ CUT = Job(
 
 # ------------------------------------------------------------------- partition
 def _partition_parameters(volume=None, joint: str = "flat", clearance: float = 0.0, step=(10.0, 20.0),
-                          flight: int = 1, rotate: bool = True, preview: bool = True, repair: bool = False) -> dict:
+                          flight: int = 1, rotate: bool = True, preview: bool = True, repair: bool = False,
+                          plates: bool = False, spacing: float = 5.0) -> dict:
     """volume: the build volume (3 sizes, mm; required); joint: flat or stair; clearance: glue gap (mm);
     step: stair step height and depth (mm); flight: steps up before stepping down; rotate: turn
-    pieces about z to fit; preview: draw exploded.png; repair: `slicelab.repair` the mesh first."""
+    pieces about z to fit; preview: draw exploded.png; repair: `slicelab.repair` the mesh first;
+    plates: also pack the pieces onto build plates (``plate_NN.stl``, ``plates.json``), `spacing` mm apart."""
     if volume is None:
         raise ParameterError("volume", "is required (three sizes in mm, such as 200x200x200)")
     return {"volume": vector("volume", volume, positive=True), "joint": choice("joint", joint, ("flat", "stair")),
             "clearance": number("clearance", clearance, low=0), "step": vector("step", step, size=2, positive=True),
             "flight": whole("flight", flight, low=1), "rotate": bool(rotate), "preview": bool(preview),
-            "repair": bool(repair)}
+            "repair": bool(repair), "plates": bool(plates), "spacing": number("spacing", spacing, low=0)}
 
 
 def _partition_feasible(inp, p):
@@ -150,7 +152,15 @@ def _partition_write(parts, inp, p, out):
         from ..viz import save_exploded_png
         save_exploded_png(pieces, out.path("preview"),
                           title=f"{inp.path.name}: {len(pieces)} pieces, {p['joint']} joints")
-    return {"results": {"written": results, "watertight": all(r["watertight"] for r in results.values())},
+    extra = {}
+    if p["plates"]:
+        from .plates import write_plates
+        extra, why = write_plates(pieces, names, p["volume"], out.folder, spacing=p["spacing"],
+                                  rotate=p["rotate"], preview=p["preview"])
+        out.record("plates", sorted(out.folder.glob("plate_*")) + [out.folder / "plates.json"])
+        reasons += why
+    return {"results": {"written": results, "watertight": all(r["watertight"] for r in results.values()),
+                        **({"plates": extra} if extra else {})},
             "reasons": reasons}
 
 
@@ -170,16 +180,26 @@ PARTITION = Job(
 # ----------------------------------------------------------------------- slice
 _SETTINGS = ("layer_height", "first_layer_height", "line_width", "n_perimeters", "infill_density",
              "infill_angle", "top_layers", "bottom_layers", "pixel_size", "nozzle_temperature",
-             "bed_temperature")
+             "bed_temperature", "infill_pattern", "gcode_resolution", "fan_speed", "fan_off_layers",
+             "skirt_loops", "skirt_distance", "brim_width", "bed_size", "max_height", "acceleration", "jerk")
+
+
+def _size(name: str, value) -> list:
+    """Two sizes given as ``"250x210"``, ``"250,210"`` or a pair of numbers."""
+    if isinstance(value, str):
+        value = value.lower().replace(",", "x").split("x")
+    return vector(name, value, size=2, positive=True)
 
 
 def _slice_parameters(layer_height=None, first_layer_height=None, line_width=None, n_perimeters=None,
                       infill_density=None, infill_angle=None, top_layers=None, bottom_layers=None,
-                      pixel_size=None, nozzle_temperature=None, bed_temperature=None, workers=None,
-                      preview: bool = False, repair: bool = False) -> dict:
+                      pixel_size=None, nozzle_temperature=None, bed_temperature=None, infill_pattern=None,
+                      gcode_resolution=None, fan_speed=None, fan_off_layers=None, skirt_loops=None,
+                      skirt_distance=None, brim_width=None, bed_size=None, max_height=None, acceleration=None,
+                      jerk=None, workers=None, preview: bool = False, repair: bool = False) -> dict:
     """`slicelab.toolpath.PrintSettings` fields (None: its default; the first layer as thick as
-    the others unless given); workers: processes (None: all cores); preview: layer SVGs and a PNG;
-    repair: `slicelab.repair` the mesh first."""
+    the others unless given; bed_size as ``"250x210"`` or two numbers); workers: processes (None:
+    all cores); preview: layer SVGs and a PNG; repair: `slicelab.repair` the mesh first."""
     from ..toolpath import PrintSettings
     given = {k: v for k, v in locals().items() if k in _SETTINGS and v is not None}
     if first_layer_height is None and layer_height is not None:
@@ -187,6 +207,8 @@ def _slice_parameters(layer_height=None, first_layer_height=None, line_width=Non
     if infill_density is not None and not 0 <= number("infill_density", infill_density) <= 1:
         raise ParameterError("infill_density", f"must be a fraction from 0 to 1 (0 % to 100 %), "
                                                f"got {infill_density!r}")
+    if bed_size is not None:
+        given["bed_size"] = tuple(_size("bed_size", bed_size))
     try:
         PrintSettings(**given)
     except ValueError as exc:  # PrintSettings' messages begin with the field's name
@@ -199,9 +221,15 @@ def _slice_parameters(layer_height=None, first_layer_height=None, line_width=Non
 def _slice_feasible(inp, p):
     from ..toolpath import PrintSettings
     from .limits import check_print
+    from ..toolpath.bed import check_bed
     s = PrintSettings(**{k: v for k, v in p.items() if k in _SETTINGS})
     check_print(inp.mesh, layer_height=min(s.layer_height, s.first_layer_height), pixel_size=s.pixel_size,
                 line_width=s.line_width, n_perimeters=s.n_perimeters)
+    try:
+        check_bed(inp.mesh, s)
+    except ValueError as exc:  # its message begins with the setting's name
+        name, _, problem = str(exc).partition(" ")
+        raise (ParameterError(name, problem) if name in _SETTINGS else exc) from None
 
 
 def _slice_compute(inp, p):
@@ -212,7 +240,7 @@ def _slice_compute(inp, p):
 
 def _slice_write(pp, inp, p, out):
     from ..export import write_gcode
-    write_gcode(pp, out.path("gcode"))
+    totals = write_gcode(pp, out.path("gcode"))
     if p["preview"]:
         from ..export import write_svgs
         from ..viz import preview_png
@@ -220,6 +248,7 @@ def _slice_write(pp, inp, p, out):
             raise ValueError("a preview needs a folder")
         out.record("svg", write_svgs(pp, out.folder))
         preview_png(pp, out.path("preview"))
+    return {"results": {"print_time": totals["seconds"], "filament_used": totals["filament"]}}
 
 
 def _slice_report(pp, inp, p):
