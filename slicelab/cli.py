@@ -503,26 +503,21 @@ def _add_slice(sub) -> None:
     p.add_argument("--layer-height", type=_positive, default=_GIVEN, metavar="H", help="(default 0.2 mm)")
     p.add_argument("--first-layer-height", type=_positive, default=_GIVEN, metavar="H",
                    help="default: the layer height")
-    p.add_argument("--line-width", type=_positive, default=_GIVEN, metavar="W")
     p.add_argument("--perimeters", dest="n_perimeters", type=int, default=_GIVEN, metavar="N",
                    help="perimeters around every island (default 2)")
     p.add_argument("--infill-density", type=_density, default=_GIVEN, metavar="D",
                    help="sparse infill density: 20 or 20%% is a percentage, a bare number up to 1 a "
                         "fraction (0.2); default 20%%")
-    p.add_argument("--infill-angle", type=float, default=_GIVEN, metavar="DEG")
-    p.add_argument("--top-layers", type=int, default=_GIVEN, metavar="N")
-    p.add_argument("--bottom-layers", type=int, default=_GIVEN, metavar="N")
-    p.add_argument("--pixel-size", type=_positive, default=_GIVEN, metavar="MM")
     p.add_argument("--infill-pattern", choices=("rectilinear", "concentric", "gyroid"), default=_GIVEN)
-    for flag, kind, meta, text in (  # the printer and the G-code (PrintSettings' defaults in brackets)
-            ("--gcode-resolution", float, "MM", "paths simplified to this tolerance [0.0125]"),
-            ("--nozzle-temperature", float, "C", None), ("--bed-temperature", float, "C", None),
-            ("--fan-speed", float, "PCT", "part-cooling fan [100]"), ("--fan-off-layers", int, "N", "[1]"),
-            ("--skirt-loops", int, "N", "[1]; 0: none"), ("--skirt-distance", float, "MM", "[6]"),
-            ("--brim-width", float, "MM", "[0]: none"), ("--bed-size", str, "XxY", "[250x210]"),
-            ("--max-height", float, "MM", "[210]"), ("--acceleration", float, "MM/S2", "time estimate [1000]"),
-            ("--jerk", float, "MM/S", "time estimate: speed change at corners [8]")):
-        p.add_argument(flag, type=kind, default=_GIVEN, metavar=meta, help=text)
+    for flag, kind, meta in (("--line-width", _positive, "W"), ("--infill-angle", float, "DEG"),
+                             ("--top-layers", int, "N"), ("--bottom-layers", int, "N"),
+                             ("--pixel-size", _positive, "MM"), ("--gcode-resolution", float, "MM"),
+                             ("--nozzle-temperature", float, "C"), ("--bed-temperature", float, "C"),
+                             ("--fan-speed", float, "PCT"), ("--fan-off-layers", int, "N"), ("--skirt-loops", int, "N"),
+                             ("--skirt-distance", float, "MM"), ("--brim-width", float, "MM"),
+                             ("--bed-size", str, "XxY"), ("--max-height", float, "MM"),
+                             ("--acceleration", float, "MM/S2"), ("--jerk", float, "MM/S")):
+        p.add_argument(flag, type=kind, default=_GIVEN, metavar=meta)
     p.add_argument("--workers", type=int, default=_GIVEN, metavar="N", help="processes (default: all cores)")
     p.add_argument("--preview", dest="preview_dir", type=Path, default=None, metavar="DIR",
                    help="also write DIR/layer_*.svg and DIR/preview.png")

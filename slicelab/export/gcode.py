@@ -1,13 +1,20 @@
 """G-code and per-layer SVG output of a print plan.
 
 The G-code is Marlin-flavoured and written the way PrusaSlicer writes it, so
-its G-code viewer reads the roles: absolute XYZ (G90), relative extrusion
-(M83), per layer ``;LAYER_CHANGE``, ``;Z:``, ``;HEIGHT:`` and ``;LAYER:``, per
-path ``;TYPE:`` and ``;WIDTH:``. Extrusion per move is line width x layer
-height x length / filament cross-section (x the extrusion multiplier); a
-travel longer than `retract_min_travel` retracts, lifts the nozzle, moves,
-lowers and primes again. The ``;TYPE:`` words and the SVG colours come from
-`slicelab.toolpath.roles.STYLES`.
+its G-code viewer and OctoPrint read it: absolute XYZ (G90), relative
+extrusion (M83), per layer ``;LAYER_CHANGE``, ``;Z:``, ``;HEIGHT:`` and
+``;LAYER:``, per path ``;TYPE:`` and ``;WIDTH:``, and at the end
+``; filament used [mm] =``, ``; filament used [cm3] =`` and
+``; estimated printing time (normal mode) = 1h 2m 3s``. Extrusion per move is
+line width x layer height x length / filament cross-section (x the extrusion
+multiplier); a travel longer than `retract_min_travel` retracts, lifts the
+nozzle, moves, lowers and primes again. The part-cooling fan is off (M107)
+for the first `fan_off_layers` layers and on at `fan_speed` (M106) from the
+next. The first layer starts with its skirt and brim. The ``;TYPE:`` words and
+the SVG colours come from `slicelab.toolpath.roles.STYLES`; the time is the
+sum of every written move's time (`slicelab.toolpath.estimate.move_times`:
+trapezoidal speed profiles at the settings' `acceleration`, junctions at
+`jerk`).
 
 See Also
 --------
@@ -21,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..toolpath.estimate import format_duration, move_times
 from ..toolpath.planner import settings_dict
 from ..toolpath.roles import STYLES
 from .files import atomic_open
@@ -33,12 +41,43 @@ def _fmt(xy: np.ndarray, e: np.ndarray) -> str:
     return "\n".join(f"G1 X{x:.3f} Y{y:.3f} E{d:.5f}" for (x, y), d in zip(xy.tolist(), e.tolist()))
 
 
-def gcode_lines(plan):
-    """Yield the G-code text in blocks (header, each layer, end).
+class _Moves:
+    """The moves of a stretch of G-code as written (rounded like the text), for the time estimate."""
+
+    def __init__(self, pos: np.ndarray):
+        self.pos = self.start = np.asarray(pos, np.float64)
+        self.ends, self.e, self.feed = [], [], []
+
+    def add(self, xyz, e, feed: float) -> None:
+        """Moves to the points `xyz` (one or (k, 3)), feeding `e` (each), at `feed` mm/s."""
+        xyz = np.round(np.asarray(xyz, np.float64).reshape(-1, 3), 3)
+        self.ends.append(xyz)
+        self.e.append(np.broadcast_to(np.round(np.asarray(e, np.float64), 5), (len(xyz),)))
+        self.feed.append(np.full(len(xyz), feed))
+        self.pos = xyz[-1]
+
+    def seconds(self, s) -> float:
+        """Time of the moves added since the last call."""
+        if not self.ends:
+            return 0.0
+        ends = np.concatenate(self.ends)
+        starts = np.vstack([self.start, ends[:-1]])
+        t = move_times(starts, ends, np.concatenate(self.e), np.concatenate(self.feed),
+                       acceleration=s.acceleration, jerk=s.jerk)
+        self.start = ends[-1]
+        self.ends, self.e, self.feed = [], [], []
+        return float(t.sum())
+
+
+def gcode_lines(plan, totals: dict | None = None):
+    """Yield the G-code text in blocks (header, each layer, end, the totals).
 
     Parameters
     ----------
     plan : PrintPlan
+    totals : dict, optional
+        Filled at the end with ``seconds`` (the estimated print time) and
+        ``filament`` (mm), as the file's last lines say.
 
     See Also
     --------
@@ -57,13 +96,20 @@ def gcode_lines(plan):
            "G92 E0\nM107\n")
     k_e = s.extrusion_multiplier / s.filament_area
     speeds = {"external": s.external_perimeter_speed, "internal": s.perimeter_speed,
-              "gap_fill": s.gap_fill_speed, "sparse": s.infill_speed, "solid": s.solid_infill_speed}
+              "gap_fill": s.gap_fill_speed, "sparse": s.infill_speed, "solid": s.solid_infill_speed,
+              "skirt": s.first_layer_speed, "brim": s.first_layer_speed}
+    feed = {name: round(60 * v) / 60 for name, v in (("travel", s.travel_speed), ("retract", s.retraction_speed))}
+    fan_on = f"M106 S{int(255 * s.fan_speed / 100)}\n" if s.fan_speed > 0 else ""  # as PrusaSlicer writes it
+    moves = _Moves(np.zeros(3))  # G28 leaves the nozzle at the origin
+    seconds = filament = 0.0
     pos = None
+    z = 0.0
     for k, (lp, h) in enumerate(zip(plan.layers, plan.heights)):  # over layers
         z = lp.z + 0.0
         out = [f";LAYER_CHANGE\n;Z:{z:.3f}\n;HEIGHT:{h:.3f}\n;LAYER:{k}\nG1 Z{z:.3f} F{60 * s.travel_speed:.0f}\n"]
-        if k == 1:
-            out.append("M106 S255\n")
+        moves.add([*(moves.pos[:2]), z], 0.0, feed["travel"])
+        if k == s.fan_off_layers and fan_on:
+            out.append(fan_on)
         current_type = None
         for kind, (_, path, width) in zip(lp.kinds(), lp.ordered()):  # over paths
             xy = path + off[:2]
@@ -72,35 +118,60 @@ def gcode_lines(plan):
                 current_type = kind
             if pos is None or np.hypot(*(xy[0] - pos)) > 1e-9:
                 travel = math.inf if pos is None else float(np.hypot(*(xy[0] - pos)))
+                x0, y0 = xy[0]
                 if travel > s.retract_min_travel and s.retraction_length > 0:
                     out.append(f"G1 E{-s.retraction_length:.5f} F{60 * s.retraction_speed:.0f}\n")
+                    moves.add(moves.pos, -s.retraction_length, feed["retract"])
                     if s.z_lift > 0:
                         out.append(f"G1 Z{z + s.z_lift:.3f} F{60 * s.travel_speed:.0f}\n")
-                    out.append(f"G0 X{xy[0, 0]:.3f} Y{xy[0, 1]:.3f} F{60 * s.travel_speed:.0f}\n")
+                        moves.add([*(moves.pos[:2]), z + s.z_lift], 0.0, feed["travel"])
+                    out.append(f"G0 X{x0:.3f} Y{y0:.3f} F{60 * s.travel_speed:.0f}\n")
+                    moves.add([x0, y0, z + s.z_lift], 0.0, feed["travel"])
                     if s.z_lift > 0:
                         out.append(f"G1 Z{z:.3f}\n")
+                        moves.add([x0, y0, z], 0.0, feed["travel"])
                     out.append(f"G1 E{s.retraction_length:.5f} F{60 * s.retraction_speed:.0f}\n")
+                    moves.add([x0, y0, z], s.retraction_length, feed["retract"])
                 else:
-                    out.append(f"G0 X{xy[0, 0]:.3f} Y{xy[0, 1]:.3f} F{60 * s.travel_speed:.0f}\n")
+                    out.append(f"G0 X{x0:.3f} Y{y0:.3f} F{60 * s.travel_speed:.0f}\n")
+                    moves.add([x0, y0, z], 0.0, feed["travel"])
             seg = np.hypot(*np.diff(xy, axis=0).T)
             w = np.full(len(xy), width) if np.isscalar(width) else np.asarray(width)
             wm = 0.5 * (w[:-1] + w[1:])
             speed = s.first_layer_speed if k == 0 else speeds[kind]
+            e = wm * h * seg * k_e
             out.append(f";WIDTH:{float(np.mean(wm)):.3f}\nG1 F{60 * speed:.0f}\n")
-            out.append(_fmt(xy[1:], wm * h * seg * k_e) + "\n")
+            out.append(_fmt(xy[1:], e) + "\n")
+            moves.add(np.column_stack([xy[1:], np.full(len(xy) - 1, z)]), e, round(60 * speed) / 60)
+            filament += float(np.round(e, 5).sum())
             pos = xy[-1]
+        seconds += moves.seconds(s)
         yield "".join(out)
+    top = max(z, min(z + 10.0, s.max_height))
+    moves.add(moves.pos, -s.retraction_length, feed["retract"])
+    moves.add([*(moves.pos[:2]), top], 0.0, 10.0)
+    seconds += moves.seconds(s)
+    if totals is not None:
+        totals.update(seconds=seconds, filament=filament)
     yield (f"; end\nG1 E{-s.retraction_length:.5f} F{60 * s.retraction_speed:.0f}\n"
-           "G91\nG1 Z10 F600\nG90\nM104 S0\nM140 S0\nM107\nG28 X0\nM84\n")
+           f"G1 Z{top:.3f} F600\nM104 S0\nM140 S0\nM107\nG28 X0\nM84\n")
+    yield (f"\n; filament used [mm] = {filament:.2f}\n"
+           f"; filament used [cm3] = {filament * s.filament_area / 1000:.2f}\n"
+           f"; estimated printing time (normal mode) = {format_duration(seconds)}\n")
 
 
-def write_gcode(plan, path) -> None:
+def write_gcode(plan, path) -> dict:
     """Write the plan's G-code to `path` (temporary name, renamed when whole).
 
     Parameters
     ----------
     plan : PrintPlan
     path : str or Path
+
+    Returns
+    -------
+    dict
+        ``seconds``: the estimated print time; ``filament``: filament used (mm).
 
     See Also
     --------
@@ -113,13 +184,17 @@ def write_gcode(plan, path) -> None:
     >>> from slicelab.samples import box
     >>> p = slicelab.plan(box((0, 0, 0), (5, 5, 0.6)), slicelab.PrintSettings(pixel_size=0.1), workers=1)
     >>> out = os.path.join(tempfile.mkdtemp(), "box.gcode")
-    >>> write_gcode(p, out)
+    >>> totals = write_gcode(p, out)
     >>> text = open(out).read(); text.count(";LAYER_CHANGE"), ";TYPE:External perimeter" in text
     (3, True)
+    >>> text.splitlines()[-1], round(totals["seconds"])
+    ('; estimated printing time (normal mode) = 16s', 16)
     """
+    totals: dict = {}
     with atomic_open(path, "w", encoding="utf-8") as fh:
-        for block in gcode_lines(plan):
+        for block in gcode_lines(plan, totals):
             fh.write(block)
+    return totals
 
 
 def _svg_layer(lp, page) -> SvgDrawing:

@@ -5,6 +5,11 @@
 ``toolpath.distance``       the exact distance field of a layer and its level sets
 ``toolpath.perimeters``     erosion-based perimeters, filling limits, gap fill
 ``toolpath.infill``         rectilinear filling lines
+``toolpath.patterns``       infill patterns by name: rectilinear, concentric, gyroid
+``toolpath.simplify``       Douglas-Peucker simplification of a layer's paths
+``toolpath.skirt``          the first layer's skirt and brim
+``toolpath.estimate``       print time of G-code moves (trapezoids, look-ahead)
+``toolpath.bed``            `check_bed`: does the part fit the printer
 ``toolpath.roles``          path roles, their G-code ``;TYPE:`` words and colours
 ``toolpath.paths``          `layer_paths`: one layer's ordered toolpaths, coverage
 ``toolpath.planner``        `plan` a whole part -> `PrintPlan`, `PrintSettings`
@@ -22,6 +27,11 @@ _WHERE = {"GridMask": "raster", "LayerRaster": "raster", "RasterContours": "rast
           "level_polygons": "perimeters", "Perimeters": "perimeters", "layer_perimeters": "perimeters",
           "medial_fill": "perimeters", "mask_rings": "perimeters",
           "FillLines": "infill", "fill_lines": "infill", "rectilinear": "infill", "line_spacing": "infill",
+          "PATTERNS": "patterns", "fill_pattern": "patterns", "concentric": "patterns", "gyroid": "patterns",
+          "GYROID_LENGTH": "patterns", "simplify_mask": "simplify", "simplify_path": "simplify",
+          "simplify_paths": "simplify", "simplify_rings": "simplify", "skirt_loops": "skirt",
+          "skirt_margin": "skirt", "with_skirt": "skirt", "move_times": "estimate", "format_duration": "estimate",
+          "check_bed": "bed", "ISLAND_ROLES": "roles",
           "ROLES": "roles", "FILLING_KINDS": "roles", "KINDS": "roles", "RoleStyle": "roles", "STYLES": "roles",
           "LayerPaths": "paths", "layer_paths": "paths", "coverage_map": "paths", "covered_pixels": "paths",
           "PrintSettings": "planner", "PrintPlan": "planner", "plan": "planner", "layer_bounds": "planner",
@@ -31,8 +41,10 @@ _WHERE = {"GridMask": "raster", "LayerRaster": "raster", "RasterContours": "rast
 __all__ = ["GridMask", "LayerRaster", "RasterContours", "rasterize", "winding_numbers", "raster_hierarchy",
            "draw_polylines", "RULES", "DistanceField", "signed_mask_distance", "distance_field", "level_rings",
            "level_polygons", "Perimeters", "layer_perimeters", "medial_fill", "mask_rings", "FillLines",
-           "fill_lines", "rectilinear", "line_spacing", "ROLES", "FILLING_KINDS", "KINDS", "RoleStyle",
-           "STYLES", "LayerPaths", "layer_paths", "coverage_map", "covered_pixels", "PrintSettings",
+           "fill_lines", "rectilinear", "line_spacing", "PATTERNS", "fill_pattern", "concentric", "gyroid",
+           "GYROID_LENGTH", "simplify_mask", "simplify_path", "simplify_paths", "simplify_rings", "skirt_loops",
+           "skirt_margin", "with_skirt", "move_times", "format_duration", "check_bed", "ISLAND_ROLES", "ROLES",
+           "FILLING_KINDS", "KINDS", "RoleStyle", "STYLES", "LayerPaths", "layer_paths", "coverage_map", "covered_pixels", "PrintSettings",
            "PrintPlan", "plan", "layer_bounds", "settings_dict"]
 
 

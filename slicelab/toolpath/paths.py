@@ -2,12 +2,21 @@
 
 `layer_paths` turns a section into ``external_contour_segments`` (one
 closed polyline per island's outer boundary), ``internal_contour_segments``
-(hole boundaries and inner perimeters) and ``filling_segments`` (zigzag
-polylines), plus gap fill along the medial axis of what perimeters miss.
-Islands are printed nearest first: the outer perimeter, then the inner ones
-level by level, gap fill, then filling (the outside of the part first, then
-its inside). Each loop's seam is put at its vertex nearest to the nozzle,
-and open paths are entered from their nearer end, which keeps travel short.
+(hole boundaries and inner perimeters) and ``filling_segments`` (an infill
+pattern of `slicelab.toolpath.patterns`, rectilinear zigzags by default),
+plus gap fill along the medial axis of what perimeters miss. Islands are
+printed nearest first: the outer perimeter, then the inner ones level by
+level, gap fill, then filling (the outside of the part first, then its
+inside). Each loop's seam is put at its vertex nearest to the nozzle, and
+open paths are entered from their nearer end, which keeps travel short.
+
+Every path is simplified to a `resolution` (PrusaSlicer's ``gcode_resolution``,
+0.0125 mm) before it is returned, keeping its corners
+(`slicelab.toolpath.simplify`). The filling's limits are pixel contours, up to
+half a pixel off the exact offset in a staircase of pixel steps; they are
+simplified at a pixel (at most the filling's overlap with the perimeters)
+before the pattern fills them, so the links of the zigzags follow the
+limit's shape, not its pixels.
 
 See Also
 --------
@@ -19,12 +28,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..geometry.polygons import points_in_ring, signed_area
+from ..geometry.polygons import Polygon, points_in_ring, signed_area
 from ..geometry.spatial import SegmentIndex
 from .infill import line_spacing, rectilinear
+from .patterns import fill_pattern
 from .perimeters import Perimeters, layer_perimeters, medial_fill
 from .raster import GridMask, LayerRaster, draw_polylines, rasterize, winding_numbers
-from .roles import ROLES
+from .roles import ISLAND_ROLES
+from .simplify import simplify_paths, simplify_rings
 
 __all__ = ["LayerPaths", "layer_paths", "coverage_map", "covered_pixels"]
 
@@ -60,6 +71,9 @@ class LayerPaths:
         Islands too thin for one perimeter (printed as gap fill only).
     perimeters : Perimeters
         The perimeter stage's result (fields, regions), for plots.
+    skirt_segments, brim_segments : list of (k, 2) ndarray
+        Closed loops around the first layer (`slicelab.toolpath.skirt`),
+        printed before the islands; empty on the other layers.
     """
 
     external_contour_segments: list
@@ -74,6 +88,8 @@ class LayerPaths:
     z: float = float("nan")
     thin_walls: int = 0
     perimeters: Perimeters | None = field(default=None, repr=False)
+    skirt_segments: list = field(default_factory=list)
+    brim_segments: list = field(default_factory=list)
 
     def __repr__(self) -> str:
         return (f"LayerPaths(z={self.z:g}, {len(self.external_contour_segments)} external, "
@@ -84,7 +100,8 @@ class LayerPaths:
     def role_list(self, role: str) -> list:
         """The paths of one role (one of `slicelab.toolpath.roles.ROLES`)."""
         return {"external": self.external_contour_segments, "internal": self.internal_contour_segments,
-                "gap_fill": self.gap_fill_segments, "filling": self.filling_segments}[role]
+                "gap_fill": self.gap_fill_segments, "filling": self.filling_segments,
+                "skirt": self.skirt_segments, "brim": self.brim_segments}[role]
 
     def ordered(self):
         """Yield (role, polyline, widths) in print order; widths is a scalar or per-vertex array."""
@@ -150,8 +167,9 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
                 angle: float = 45.0, pixel_size: float = 0.05, *, layer_index: int = 0,
                 rule: str = "nonzero", overlap: float = 0.15, solid: GridMask | None = None,
                 solid_angle: float | None = None, start=None, raster: LayerRaster | None = None,
-                tolerance: float | None = None) -> LayerPaths:
-    """The toolpaths of one layer: perimeters, gap fill and zigzag filling, in print order.
+                tolerance: float | None = None, pattern: str = "rectilinear",
+                resolution: float = 0.0125) -> LayerPaths:
+    """The toolpaths of one layer: perimeters, gap fill and filling, in print order.
 
     Parameters
     ----------
@@ -163,7 +181,7 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
     infill_density : float, default 0.2
         Sparse filling density, a fraction in [0, 1]; lines are ``w / infill_density`` apart.
     angle : float, default 45
-        Filling direction (degrees); odd layers (`layer_index`) turn it by 90.
+        Filling direction (degrees); odd layers (`layer_index`) turn rectilinear filling by 90.
     pixel_size : float, default 0.05
         Raster pixel size (mm).
     layer_index : int, default 0
@@ -182,7 +200,12 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
     raster : LayerRaster, optional
         A raster of `section` already made (same pixel size and rule).
     tolerance : float, optional
-        Contour simplification tolerance (mm), default a tenth of a pixel.
+        The perimeter stage's contour simplification (mm), default a tenth of a pixel.
+    pattern : str, default "rectilinear"
+        Sparse filling pattern, a name of `slicelab.toolpath.patterns.PATTERNS`;
+        solid filling is rectilinear.
+    resolution : float, default 0.0125
+        Every path is simplified to this tolerance (mm; 0 keeps every vertex).
 
     Returns
     -------
@@ -192,6 +215,8 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
     --------
     slicelab.toolpath.perimeters.layer_perimeters : the perimeters, filling regions and gap fill.
     slicelab.toolpath.infill.rectilinear : the zigzag filling.
+    slicelab.toolpath.patterns.fill_pattern : the sparse filling's patterns.
+    slicelab.toolpath.simplify.simplify_paths : the paths' simplification.
     coverage_map : how the paths cover the layer.
 
     Examples
@@ -214,13 +239,17 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
         raise ValueError("the solid mask must be on the layer's pixel grid (same pixel size)")
     per = layer_perimeters(raster, w, n_perimeters, overlap=overlap, solid=solid, tolerance=tolerance)
     fill_angle = float(angle) + 90.0 * (layer_index % 2)
+    z = float(section.z) if hasattr(section, "z") else 0.0
+    limit = max(float(resolution), min(raster.pixel_size, overlap * w))
     fills, kinds = [], []
     if infill_density > 0 and per.fill:
-        sparse = rectilinear(per.fill, line_spacing(w, infill_density), fill_angle)
+        sparse = fill_pattern(pattern, _simplified(per.fill, limit), line_spacing(w, infill_density), angle,
+                              layer_index=layer_index, z=z if np.isfinite(z) else 0.0)
         fills += sparse
         kinds += ["sparse"] * len(sparse)
     if per.solid:
-        solid_paths = rectilinear(per.solid, w, fill_angle if solid_angle is None else solid_angle)
+        solid_paths = rectilinear(_simplified(per.solid, limit), w,
+                                  fill_angle if solid_angle is None else solid_angle)
         fills += solid_paths
         kinds += ["solid"] * len(solid_paths)
 
@@ -243,7 +272,7 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
     groups: dict[int, dict[str, list]] = {}
 
     def put(island, role, item):
-        groups.setdefault(int(island), {r: [] for r in ROLES})[role].append(item)
+        groups.setdefault(int(island), {r: [] for r in ISLAND_ROLES})[role].append(item)
 
     if level0:
         for i in range(len(level0)):
@@ -279,7 +308,7 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
 
     def entry_points(g):
         pts = []
-        for role in ROLES:
+        for role in ISLAND_ROLES:
             for j in g[role]:
                 if role == "external":
                     pts.append(level0[j].exterior)
@@ -293,15 +322,20 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
                 break
         return np.concatenate(pts)
 
-    def nearest_open(cands, paths_of):
-        best, rev, dbest = None, False, np.inf
+    def nearest_open(cands, paths_of, loops):
+        """The path to print next and how: from its start, from its end (reversed), or, for a
+        loop (when `loops`), from its vertex nearest the nozzle."""
+        best, how, dbest = None, "start", np.inf
         for j in cands:
             p = paths_of(j)
-            for end, r in ((p[0], False), (p[-1], True)):
-                d = np.hypot(*(end - pos))
+            if loops and len(p) > 3 and np.array_equal(p[0], p[-1]):
+                options = ((float(np.min(np.hypot(*(p[:-1] - pos).T))), "loop"),)
+            else:
+                options = ((np.hypot(*(p[0] - pos)), "start"), (np.hypot(*(p[-1] - pos)), "end"))
+            for d, h in options:
                 if d < dbest:
-                    best, rev, dbest = j, r, d
-        return best, rev
+                    best, how, dbest = j, h, d
+        return best, how
 
     remaining = dict(groups)
     while remaining:  # over islands, nearest first
@@ -325,20 +359,40 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
         for role, source in (("gap_fill", gap_fill), ("filling", fills)):
             todo = list(g[role])
             while todo:  # nearest end first
-                j, rev = nearest_open(todo, lambda j: source[j])
+                j, how = nearest_open(todo, lambda j: source[j], role == "filling")
                 todo.remove(j)
-                path = source[j][::-1] if rev else source[j]
+                path = {"start": source[j], "end": source[j][::-1]}.get(how)
+                path = _closed_from(source[j][:-1], pos) if path is None else path
                 go(path)
                 if role == "gap_fill":
                     seq.append(("gap_fill", len(gap_out)))
                     gap_out.append(path)
-                    gap_w.append(gap_widths[j][::-1] if rev else gap_widths[j])
+                    gap_w.append(gap_widths[j][::-1] if how == "end" else gap_widths[j])
                 else:
                     seq.append(("filling", len(fill_out)))
                     fill_out.append(path)
                     fill_kinds.append(kinds[j])
-    return LayerPaths(ext_out, int_out, fill_out, tuple(fill_kinds), gap_out, gap_w, tuple(seq), travel, w,
-                      section.z if hasattr(section, "z") else float("nan"), per.thin_walls, per)
+    # Clean paths: each simplified to the resolution (ends, seams and corners stay, so the
+    # travel between paths is unchanged).
+    n_ext, n_int = len(ext_out), len(int_out)
+    simple = simplify_paths(ext_out + int_out + fill_out, resolution)
+    gap_out, gap_w = simplify_paths(gap_out, resolution, gap_w)
+    return LayerPaths(simple[:n_ext], simple[n_ext:n_ext + n_int], simple[n_ext + n_int:], tuple(fill_kinds),
+                      gap_out, gap_w, tuple(seq), travel, w, section.z if hasattr(section, "z") else float("nan"),
+                      per.thin_walls, per)
+
+
+def _simplified(polygons: list, tolerance: float) -> list:
+    """Polygons with every ring simplified to a tolerance (the filling's limits)."""
+    rings = simplify_rings([r for p in polygons for r in (p.exterior, *p.holes)], tolerance)
+    out, k = [], 0
+    for p in polygons:  # over polygons
+        n = 1 + len(p.holes)
+        ext, *holes = rings[k:k + n]
+        k += n
+        if len(ext) >= 3:
+            out.append(Polygon(ext, tuple(h for h in holes if len(h) >= 3), p.depth))
+    return out
 
 
 def _solid_gaps(per: Perimeters, fills: list, sparse: list):

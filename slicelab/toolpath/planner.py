@@ -8,7 +8,9 @@ the `bottom_layers` layers below) do not all cover is top (or bottom) skin,
 and must be filled solid. Masks share one world-anchored pixel grid, so a
 skin is a plain mask difference. Workers take runs of consecutive layers and
 rasterise the few neighbours they need themselves, so nothing but sections
-goes in and toolpaths come out.
+goes in and toolpaths come out. The first layer starts with its skirt and
+brim (`slicelab.toolpath.skirt`); a part that does not fit the printer is
+refused before anything is sliced (`slicelab.toolpath.bed`).
 
 See Also
 --------
@@ -24,18 +26,34 @@ from dataclasses import asdict, dataclass, field, replace
 import numpy as np
 
 from ..mesh.core import Mesh
+from .bed import check_bed
 
 __all__ = ["PrintSettings", "PrintPlan", "plan", "layer_bounds", "settings_dict"]
 
 
 @dataclass(frozen=True)
 class PrintSettings:
-    """What a print needs to know (mm, mm/s, degrees Celsius).
+    """What a print needs to know (mm, mm/s, mm/s2, degrees Celsius, percent).
+
+    Beside the extrusion and its speeds: `gcode_resolution` is the tolerance
+    every path is simplified to (PrusaSlicer's); `infill_pattern` names a
+    pattern of `slicelab.toolpath.patterns.PATTERNS`; `acceleration` and `jerk`
+    (the largest speed change at a corner) set the print-time estimate
+    (`slicelab.toolpath.estimate`); the part-cooling fan is off for the first
+    `fan_off_layers` layers, then at `fan_speed` percent; `skirt_loops` loops
+    print `skirt_distance` around the first layer, and a brim reaches
+    `brim_width` from it; the part must fit the bed (`bed_size`, x and y) and
+    `max_height`, centred at `bed_center` (default the bed's middle).
+    Wrong values raise ValueError, its message beginning with the field's name.
 
     Examples
     --------
     >>> PrintSettings(layer_height=0.3).filament_area.__round__(4)
     2.4053
+    >>> PrintSettings(fan_speed=120)
+    Traceback (most recent call last):
+    ...
+    ValueError: fan_speed must be a percentage from 0 to 100, got 120
     """
 
     layer_height: float = 0.2
@@ -66,28 +84,71 @@ class PrintSettings:
     pixel_size: float = 0.05
     infill_overlap: float = 0.15
     rule: str = "nonzero"
-    bed_center: tuple = (125.0, 105.0)
+    gcode_resolution: float = 0.0125
+    infill_pattern: str = "rectilinear"
+    acceleration: float = 1000.0
+    jerk: float = 8.0
+    fan_speed: float = 100.0
+    fan_off_layers: int = 1
+    skirt_loops: int = 1
+    skirt_distance: float = 6.0
+    brim_width: float = 0.0
+    bed_size: tuple = (250.0, 210.0)
+    max_height: float = 210.0
+    bed_center: tuple | None = None
 
     def __post_init__(self):
+        from .patterns import PATTERNS
         positive = ("layer_height", "first_layer_height", "line_width", "nozzle_diameter", "filament_diameter",
                     "extrusion_multiplier", "perimeter_speed", "external_perimeter_speed", "infill_speed",
                     "solid_infill_speed", "gap_fill_speed", "first_layer_speed", "travel_speed",
-                    "retraction_speed", "pixel_size")
+                    "retraction_speed", "pixel_size", "acceleration", "jerk", "max_height")
         for name in positive:
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and v > 0 and math.isfinite(v)):
                 raise ValueError(f"{name} must be a positive number, got {v!r}")
-        for name in ("n_perimeters", "top_layers", "bottom_layers"):
+        for name in ("n_perimeters", "top_layers", "bottom_layers", "fan_off_layers", "skirt_loops"):
             v = getattr(self, name)
             if not (isinstance(v, (int, np.integer)) and v >= 0):
                 raise ValueError(f"{name} must be a whole number >= 0, got {v!r}")
         if not 0 <= self.infill_density <= 1:
             raise ValueError(f"infill_density must be in [0, 1], got {self.infill_density!r}")
-        for name in ("retraction_length", "retract_min_travel", "z_lift"):
-            if getattr(self, name) < 0:
-                raise ValueError(f"{name} must be >= 0, got {getattr(self, name)!r}")
+        for name in ("retraction_length", "retract_min_travel", "z_lift", "skirt_distance", "brim_width"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and v >= 0 and math.isfinite(v)):
+                raise ValueError(f"{name} must be a number >= 0, got {v!r}")
+        if not (isinstance(self.gcode_resolution, (int, float)) and 0 <= self.gcode_resolution < self.line_width):
+            raise ValueError(f"gcode_resolution must be >= 0 and under the line width ({self.line_width:g} mm), "
+                             f"got {self.gcode_resolution!r}")
+        if not (isinstance(self.fan_speed, (int, float)) and 0 <= self.fan_speed <= 100):
+            raise ValueError(f"fan_speed must be a percentage from 0 to 100, got {self.fan_speed!r}")
         if self.rule not in ("nonzero", "evenodd"):
             raise ValueError(f"rule must be 'nonzero' or 'evenodd', got {self.rule!r}")
+        if self.infill_pattern not in PATTERNS:
+            raise ValueError(f"infill_pattern must be one of {', '.join(sorted(PATTERNS))}, "
+                             f"got {self.infill_pattern!r}")
+        for name in ("bed_size", "bed_center"):
+            v = getattr(self, name)
+            if v is None and name == "bed_center":
+                continue
+            try:
+                ok = len(v) == 2 and all(math.isfinite(float(x)) for x in v)
+            except (TypeError, ValueError):
+                ok = False
+            if not ok or (name == "bed_size" and min(float(x) for x in v) <= 0):
+                raise ValueError(f"{name} must be two {'positive ' if name == 'bed_size' else ''}numbers "
+                                 f"(x, y in mm), got {v!r}")
+            object.__setattr__(self, name, tuple(float(x) for x in v))
+        cx, cy = self.centre
+        if not (0 <= cx <= self.bed_size[0] and 0 <= cy <= self.bed_size[1]):
+            raise ValueError(f"bed_center ({cx:g}, {cy:g}) must lie on the bed "
+                             f"(0 to {self.bed_size[0]:g}, 0 to {self.bed_size[1]:g} mm)")
+
+    @property
+    def centre(self) -> tuple:
+        """Where the part's footprint is centred on the bed (x, y; mm)."""
+        return tuple(self.bed_center) if self.bed_center is not None else (self.bed_size[0] / 2,
+                                                                          self.bed_size[1] / 2)
 
     @property
     def filament_area(self) -> float:
@@ -238,6 +299,8 @@ def _run_chunk(first: int, stop: int):
     """Toolpaths of layers first..stop-1 (the sections come from the forked parent)."""
     from .paths import layer_paths
     from .raster import rasterize
+    from .simplify import simplify_paths
+    from .skirt import skirt_loops, with_skirt
     sections, z_tops, s = _JOB["sections"], _JOB["z_tops"], _JOB["settings"]
     n = len(sections)
     lo, hi = max(0, first - s.bottom_layers), min(n, stop + s.top_layers)
@@ -249,10 +312,19 @@ def _run_chunk(first: int, stop: int):
         solid = _skin_masks(k, masks, n, s)
         parity = k % 2
         solid_angle = (s.infill_angle + 90.0 * parity) if s.solid_angle is None else s.solid_angle
+        skirt = brim = ()
+        if k == 0:
+            skirt, brim = skirt_loops(sections[0], s.line_width, loops=s.skirt_loops, distance=s.skirt_distance,
+                                      brim_width=s.brim_width)
+            skirt, brim = (simplify_paths(q, s.gcode_resolution) for q in (skirt, brim))
+            if skirt or brim:
+                pos = (list(skirt) + list(brim))[-1][-1]
         lp = layer_paths(sections[k], s.line_width, s.n_perimeters, s.infill_density, s.infill_angle,
                          s.pixel_size, layer_index=k, rule=s.rule, overlap=s.infill_overlap, solid=solid,
-                         solid_angle=solid_angle, start=pos, raster=rasters[k])
+                         solid_angle=solid_angle, start=pos, raster=rasters[k], pattern=s.infill_pattern,
+                         resolution=s.gcode_resolution)
         areas = _areas(lp, rasters[k], solid, s)
+        lp = with_skirt(lp, skirt, brim)
         items = list(lp.ordered())
         if items:
             pos = items[-1][1][-1]
@@ -318,6 +390,7 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     if len(mesh) == 0:
         raise ValueError("the mesh has no facets: nothing to print")
     lo, hi = mesh.bounds
+    check_bed(mesh, s)
     bounds = layer_bounds(float(hi[2] - lo[2]), s.layer_height, s.first_layer_height)
     if len(bounds) == 0:
         raise ValueError("the part is flat: nothing to print")
@@ -329,6 +402,7 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     warm.start()
     sections = slice_layers(mesh, heights=mid)
     warm.join()
+    check_bed(mesh, s, first_layer=sections[0])
     t1 = time.perf_counter()
     n = len(sections)
     workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))
@@ -372,7 +446,7 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     layers = [r[1] for r in results]
     areas = np.array([r[2] for r in results]).reshape(-1, 4)
     heights = bounds[:, 1] - bounds[:, 0]
-    offset = np.array([s.bed_center[0] - (lo[0] + hi[0]) / 2, s.bed_center[1] - (lo[1] + hi[1]) / 2, -lo[2]])
+    offset = np.array([s.centre[0] - (lo[0] + hi[0]) / 2, s.centre[1] - (lo[1] + hi[1]) / 2, -lo[2]])
     t2 = time.perf_counter()
     return PrintPlan(s, layers, heights, offset, areas, float(np.sum(areas[:, 0] * heights)),
                      {"slice": t1 - t0, "paths": t2 - t1})
@@ -405,9 +479,10 @@ def _costliest_first(chunks: list, sections: list, s: PrintSettings) -> list:
 def _warm_imports() -> None:
     import cv2  # noqa: F401
     import scipy.spatial  # noqa: F401
+    import shapely  # noqa: F401
     from skimage.morphology import skeletonize  # noqa: F401  (skimage loads it lazily, on first use)
 
-    from . import distance, infill, paths, perimeters, raster  # noqa: F401
+    from . import distance, infill, paths, patterns, perimeters, raster, simplify, skirt  # noqa: F401
 
 
 def _bar(total: int, progress: bool | None):

@@ -1,15 +1,18 @@
 """The roles of a layer's extrusions, their G-code ``;TYPE:`` words and their colours.
 
-A layer's paths come in four lists (`ROLES`); its filling is sparse or
-solid, so an extrusion is one of five kinds (`KINDS`). `STYLES` names each
-kind once for every output: the ``;TYPE:`` word PrusaSlicer's G-code viewer
-reads, that viewer's colour (used in the per-layer SVGs) and the colour on
-white matplotlib axes (gap fill, white in the viewer, shows blue there).
+A layer's paths come in six lists (`ROLES`): the first layer's skirt and brim,
+printed first, then each island's four (`ISLAND_ROLES`, in the order an
+island prints them). Filling is sparse or solid, so an extrusion is one of
+seven kinds (`KINDS`). `STYLES` names each kind once for every output: the
+``;TYPE:`` word PrusaSlicer's G-code viewer reads (PrusaSlicer writes skirt and
+brim alike as ``Skirt/Brim``), that viewer's colour (used in the per-layer
+SVGs) and the colour on white matplotlib axes (gap fill, white in the viewer,
+shows blue there).
 
 Examples
 --------
->>> STYLES["external"].gcode_type, STYLES["solid"].colour
-('External perimeter', '#8f1fd6')
+>>> STYLES["external"].gcode_type, STYLES["solid"].colour, STYLES["brim"].gcode_type
+('External perimeter', '#8f1fd6', 'Skirt/Brim')
 >>> set(STYLES) == set(KINDS)
 True
 """
@@ -17,14 +20,16 @@ from __future__ import annotations
 
 from typing import NamedTuple
 
-__all__ = ["ROLES", "FILLING_KINDS", "KINDS", "RoleStyle", "STYLES"]
+__all__ = ["ROLES", "ISLAND_ROLES", "FILLING_KINDS", "KINDS", "RoleStyle", "STYLES"]
 
-#: The path lists of a layer, in the order an island prints them.
-ROLES = ("external", "internal", "gap_fill", "filling")
+#: The path lists of an island, in the order it prints them.
+ISLAND_ROLES = ("external", "internal", "gap_fill", "filling")
+#: The path lists of a layer: the skirt and brim (first layer only) go before the islands.
+ROLES = ("skirt", "brim", *ISLAND_ROLES)
 #: What a filling path is.
 FILLING_KINDS = ("sparse", "solid")
 #: The kind of an extrusion: its role, with filling split into its kinds.
-KINDS = ("external", "internal", "gap_fill", *FILLING_KINDS)
+KINDS = ("skirt", "brim", "external", "internal", "gap_fill", *FILLING_KINDS)
 
 
 class RoleStyle(NamedTuple):
@@ -46,6 +51,8 @@ class RoleStyle(NamedTuple):
 
 
 STYLES = {
+    "skirt": RoleStyle("Skirt/Brim", "#00876e", "#00876e"),
+    "brim": RoleStyle("Skirt/Brim", "#00876e", "#00876e"),
     "external": RoleStyle("External perimeter", "#e8590c", "#e8590c"),
     "internal": RoleStyle("Perimeter", "#f59f00", "#f59f00"),
     "gap_fill": RoleStyle("Gap fill", "#ffffff", "#1c7ed6"),

@@ -1,0 +1,175 @@
+"""Clean toolpaths: Douglas-Peucker simplification of many polylines at once.
+
+A printer's planner stutters on streams of tiny moves, and a pixel contour or a
+marching-squares ring has a vertex every pixel. Before a layer's paths are
+written they are simplified to a tolerance (PrusaSlicer's ``gcode_resolution``,
+0.0125 mm by default): a vertex is dropped when the simplified path passes
+within the tolerance of it, so true corners stay and every original point
+lies within the tolerance of the result.
+
+The simplification is Douglas-Peucker's, with the distance to the chord
+*segment* (not to its infinite line, as OpenCV's ``approxPolyDP`` measures:
+that drops a path doubling back on itself), and it runs on every polyline of a
+layer at once: each round measures every undecided vertex against the chord of
+the interval it lies in, and splits every interval whose farthest vertex is
+beyond the tolerance at that vertex. The rounds are as many as the recursion's
+depth; no Python loop runs over vertices. A closed polyline (last point equal
+to the first) keeps its first point, the seam.
+
+References
+----------
+D. H. Douglas, T. K. Peucker, "Algorithms for the reduction of the number of
+points required to represent a digitized line or its caricature",
+The Canadian Cartographer 10(2), 1973.
+
+See Also
+--------
+slicelab.geometry.contours.simplify_ring : the same algorithm on one ring, by OpenCV.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = ["simplify_mask", "simplify_path", "simplify_paths", "simplify_rings"]
+
+
+def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance of points p to segments ab (row by row); a zero-length segment is a point."""
+    ab = b - a
+    den = np.einsum("ij,ij->i", ab, ab)
+    t = np.einsum("ij,ij->i", p - a, ab) / np.where(den > 0, den, 1.0)
+    t = np.clip(np.where(den > 0, t, 0.0), 0.0, 1.0)
+    d = p - a - t[:, None] * ab
+    return np.hypot(d[:, 0], d[:, 1])
+
+
+def simplify_mask(points: np.ndarray, keep: np.ndarray, tolerance: float) -> np.ndarray:
+    """Douglas-Peucker on concatenated polylines: which vertices to keep.
+
+    Parameters
+    ----------
+    points : (n, 2) ndarray
+        The vertices of every polyline, one after another.
+    keep : (n,) bool ndarray
+        Vertices that must stay: at least the first and last vertex of every
+        polyline (then no chord spans two polylines).
+    tolerance : float
+        Largest distance of a dropped vertex from the simplified path.
+
+    Returns
+    -------
+    (n,) bool ndarray
+        `keep` with the vertices the simplification needs added.
+
+    See Also
+    --------
+    simplify_paths : a list of polylines simplified.
+
+    Examples
+    --------
+    >>> pts = np.array([[0, 0], [1, 0.01], [2, 0], [2, 1], [0, 0], [5, 0], [2, 0]], float)
+    >>> ends = np.array([1, 0, 0, 1, 1, 0, 1], bool)   # [0..3] and [4..6]
+    >>> simplify_mask(pts, ends, 0.05).astype(int).tolist()   # the point 3 mm back along the line stays
+    [1, 0, 1, 1, 1, 1, 1]
+    """
+    pts = np.asarray(points, np.float64)
+    keep = np.asarray(keep, bool).copy()
+    tol = float(tolerance)
+    undecided = np.flatnonzero(~keep)
+    while len(undecided):  # over the recursion's depth: every interval is split at once
+        kept = np.flatnonzero(keep)
+        right = np.searchsorted(kept, undecided)
+        a, b = kept[right - 1], kept[right]
+        d = _segment_distance(pts[undecided], pts[a], pts[b])
+        first = np.flatnonzero(np.r_[True, a[1:] != a[:-1]])  # undecided is sorted: intervals are runs
+        group = np.repeat(np.arange(len(first)), np.diff(np.r_[first, len(a)]))
+        far = np.maximum.reduceat(d, first)
+        split = far > tol
+        if not split.any():
+            break
+        # The first vertex of each splitting interval at its greatest distance.
+        at_max = np.flatnonzero((d == far[group]) & split[group])
+        _, where = np.unique(group[at_max], return_index=True)
+        keep[undecided[at_max[where]]] = True
+        undecided = undecided[split[group] & ~keep[undecided]]
+    return keep
+
+
+def simplify_paths(paths: list, tolerance: float, widths: list | None = None):
+    """Simplify polylines (open, or closed with the last point equal to the first) to a tolerance.
+
+    Every polyline keeps its two ends (a closed one its seam) and at least
+    two vertices; every dropped vertex lies within `tolerance` of the
+    simplified polyline.
+
+    Parameters
+    ----------
+    paths : list of (k, 2) ndarray
+    tolerance : float
+        mm; 0 keeps every vertex.
+    widths : list of (k,) ndarray, optional
+        Per-vertex values to thin in step with the vertices (gap fill widths).
+
+    Returns
+    -------
+    list of (m, 2) ndarray, or (list, list) when `widths` is given
+
+    See Also
+    --------
+    simplify_path : one polyline.
+    simplify_rings : rings that are implicitly closed.
+
+    Examples
+    --------
+    >>> t = np.linspace(0, np.pi, 200)
+    >>> arc = np.c_[50 * np.cos(t), 50 * np.sin(t)]
+    >>> line = np.array([[0, 0], [1, 0], [2, 0], [3, 0]], float)
+    >>> [len(p) for p in simplify_paths([arc, line], 0.0125)]
+    [72, 2]
+    """
+    if not paths:
+        return ([], []) if widths is not None else []
+    sizes = np.array([len(p) for p in paths])
+    pts = np.concatenate([np.asarray(p, np.float64).reshape(-1, 2) for p in paths])
+    ends = np.zeros(len(pts), bool)
+    stops = np.cumsum(sizes)
+    ends[stops[sizes > 0] - 1] = True
+    ends[(stops - sizes)[sizes > 0]] = True
+    keep = simplify_mask(pts, ends, tolerance) if tolerance > 0 else np.ones(len(pts), bool)
+    parts = np.split(np.arange(len(pts)), stops[:-1])
+    out = [pts[i[keep[i]]] for i in parts]
+    if widths is None:
+        return out
+    w = np.concatenate([np.broadcast_to(np.asarray(x, np.float64), (n,)) for x, n in zip(widths, sizes)])
+    return out, [w[i[keep[i]]] for i in parts]
+
+
+def simplify_path(path: np.ndarray, tolerance: float) -> np.ndarray:
+    """One polyline simplified to a tolerance (see `simplify_paths`).
+
+    Examples
+    --------
+    >>> simplify_path(np.array([[0, 0], [1, 0.001], [2, 0], [2, 2]]), 0.01).tolist()
+    [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0]]
+    """
+    return simplify_paths([path], tolerance)[0]
+
+
+def simplify_rings(rings: list, tolerance: float) -> list:
+    """Implicitly closed rings (first point not repeated) simplified to a tolerance.
+
+    Each ring keeps its first vertex and at least one other; every dropped
+    vertex lies within `tolerance` of the simplified ring.
+
+    See Also
+    --------
+    simplify_paths : open and explicitly closed polylines.
+
+    Examples
+    --------
+    >>> sq = np.array([[0, 0], [1, 0], [2, 0], [2, 2], [1, 2.001], [0, 2]], float)
+    >>> simplify_rings([sq], 0.01)[0].tolist()
+    [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]]
+    """
+    closed = [np.vstack([r, r[:1]]) for r in rings]
+    return [q[:-1] for q in simplify_paths(closed, tolerance)]

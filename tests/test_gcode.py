@@ -1,0 +1,399 @@
+"""Clean paths and the G-code a printer can trust: simplification, patterns, skirt and brim, fan,
+the print-time estimate and the bed, all read back from written files."""
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import slicelab
+from slicelab.export.gcode import write_gcode
+from slicelab.geometry.polygons import Polygon
+from slicelab.samples import box, cube_with_hole
+from slicelab.toolpath.bed import check_bed
+from slicelab.toolpath.estimate import format_duration, move_times
+from slicelab.toolpath.paths import layer_paths
+from slicelab.toolpath.patterns import GYROID_LENGTH, PATTERNS, fill_pattern
+from slicelab.toolpath.planner import PrintSettings, layer_bounds, plan
+from slicelab.toolpath.roles import KINDS, STYLES
+from slicelab.toolpath.simplify import simplify_paths, simplify_rings
+from layer_shapes import SHAPES, circle, section_of
+
+shapely = pytest.importorskip("shapely")
+
+FAST = dict(pixel_size=0.1, layer_height=0.4, first_layer_height=0.4)
+
+
+# ---------------------------------------------------------------------- reading G-code back
+def read_gcode(text):
+    """Every G0/G1 move of a file with its state: absolute XYZ (G90), relative E (M83), modal F.
+
+    Returns a dict of arrays: start, end (n, 3), e, feed (mm/s), layer, type (the ;TYPE: in force),
+    and the commands (M, G28...) in order with the layer they come in.
+    """
+    pos = np.zeros(3)
+    feed = 0.0
+    layer, role = -1, None
+    start, end, e, feeds, layers, types, commands = [], [], [], [], [], [], []
+    footer = {}
+    for line in text.splitlines():
+        if line.startswith(";LAYER:"):
+            layer = int(line[7:])
+        elif line.startswith(";TYPE:"):
+            role = line[6:]
+        elif line.startswith("; ") and " = " in line:
+            key, _, value = line[2:].partition(" = ")
+            footer[key] = value
+        code = line.split(";")[0].strip()
+        if not code:
+            continue
+        word, *args = code.split()
+        assert word not in ("G91", "M82"), "relative XYZ or absolute E: this reader expects G90 and M83"
+        if word not in ("G0", "G1"):
+            commands.append((layer, code))
+            continue
+        a = {t[0]: float(t[1:]) for t in args}
+        feed = a["F"] / 60 if "F" in a else feed
+        new = np.array([a.get("X", pos[0]), a.get("Y", pos[1]), a.get("Z", pos[2])])
+        if "E" not in a and np.array_equal(new, pos):
+            continue  # a feed rate only
+        start.append(pos)
+        end.append(new)
+        e.append(a.get("E", 0.0))
+        feeds.append(feed)
+        layers.append(layer)
+        types.append(role)
+        pos = new
+    return dict(start=np.array(start), end=np.array(end), e=np.array(e), feed=np.array(feeds),
+                layer=np.array(layers), type=np.array(types, dtype=object), commands=commands, footer=footer)
+
+
+def _seconds(text):
+    """A PrusaSlicer duration (``1h 2m 3s``) in seconds."""
+    units = {"d": 86400, "h": 3600, "m": 60, "s": 1}
+    return sum(int(n) * units[u] for n, u in re.findall(r"(\d+)([dhms])", text))
+
+
+@pytest.fixture(scope="module")
+def cube(tmp_path_factory):
+    mesh = cube_with_hole(20.0, 5.0, 32)
+    s = PrintSettings(pixel_size=0.1, layer_height=0.5, first_layer_height=0.5, skirt_loops=2,
+                      skirt_distance=4.0, brim_width=1.2, fan_off_layers=2, fan_speed=50)
+    pp = plan(mesh, s, workers=1)
+    out = tmp_path_factory.mktemp("g") / "cube.gcode"
+    totals = write_gcode(pp, out)
+    text = out.read_text()
+    return mesh, s, pp, text, read_gcode(text), totals
+
+
+# ---------------------------------------------------------------------- clean paths
+def _check_simplified(original, simple, tol):
+    assert len(simple) >= 2
+    np.testing.assert_array_equal(simple[0], original[0])
+    np.testing.assert_array_equal(simple[-1], original[-1])
+    j = 0
+    for p in simple:  # a subsequence of the original vertices, in order
+        while j < len(original) and not np.array_equal(original[j], p):
+            j += 1
+        assert j < len(original)
+        j += 1
+    line = shapely.LineString(simple) if len(np.unique(simple, axis=0)) > 1 else shapely.Point(simple[0])
+    d = shapely.distance(line, shapely.points(original))
+    assert d.max() <= tol + 1e-9, (d.max(), tol)
+
+
+@settings(max_examples=60, deadline=None)
+@given(st.integers(0, 2 ** 32 - 1), st.integers(2, 400), st.sampled_from([0.0125, 0.05, 0.3]))
+def test_simplification_keeps_every_point_within_the_tolerance(seed, n, tol):
+    rng = np.random.default_rng(seed)
+    walk = np.cumsum(rng.normal(size=(n, 2)) * rng.choice([0.01, 0.1, 1.0]), axis=0)
+    t = np.linspace(0, 2 * np.pi, n)
+    wobbly = np.c_[20 * np.cos(t), 20 * np.sin(t)] + rng.normal(scale=0.005, size=(n, 2))
+    closed = np.vstack([wobbly[:-1], wobbly[:1]])
+    paths = [walk, wobbly, closed]
+    out = simplify_paths(paths, tol)
+    for p, q in zip(paths, out):
+        _check_simplified(p, q, tol)
+    if n > 300:  # vertices under 0.6 mm apart on a 20 mm circle: some go
+        assert len(out[2]) < len(closed)
+
+
+def test_simplification_keeps_corners_and_paths_that_double_back():
+    # A path that runs 5 mm on and comes 3 mm back: the line's distance would drop the turn.
+    back = np.array([[0, 0], [1, 0], [5, 0], [2, 0]], float)
+    assert simplify_paths([back], 0.05)[0].tolist() == [[0, 0], [5, 0], [2, 0]]
+    sq = np.array([[0, 0], [2, 0], [4, 0], [4, 4], [0, 4]], float)
+    assert simplify_rings([sq], 0.01)[0].tolist() == [[0, 0], [4, 0], [4, 4], [0, 4]]
+    # Gap-fill widths follow their vertices.
+    pts, w = simplify_paths([np.array([[0, 0], [1, 0], [2, 0]], float)], 0.01, [np.array([0.3, 0.4, 0.5])])
+    assert pts[0].tolist() == [[0, 0], [2, 0]] and w[0].tolist() == [0.3, 0.5]
+
+
+@pytest.mark.parametrize("name", list(SHAPES))
+def test_simplified_perimeters_stay_within_0025_of_exact_offsets(name):
+    loops = SHAPES[name]
+    lp = layer_paths(section_of(loops), 0.4, 2, 0.2, pixel_size=0.05)
+    poly = shapely.Polygon(loops[0], loops[1:])
+    exact = shapely.union_all([poly.buffer(-level, quad_segs=64).boundary for level in (0.2, 0.6)])
+    ours = shapely.MultiLineString(lp.external_contour_segments + lp.internal_contour_segments)
+    assert shapely.hausdorff_distance(ours, exact, densify=0.01) <= 0.025
+
+
+def test_no_move_shorter_than_the_geometry_needs():
+    # A disc of radius 30 sampled every 0.05 mm: its perimeters need chords of about
+    # sqrt(8 r tol) = 1.7 mm to stay within 0.0125 mm of it.
+    loops = [circle(30.0, 3770, (0.013, 0.021))]
+    lp = layer_paths(section_of(loops), 0.4, 2, 0.2, pixel_size=0.05)
+    seg = np.concatenate([np.hypot(*np.diff(q, axis=0).T) for _, q, _ in lp.ordered()])
+    assert np.median(seg) > 1.0 and np.mean(seg < 0.1) < 0.01, (np.median(seg), np.mean(seg < 0.1))
+    raw = layer_paths(section_of(loops), 0.4, 2, 0.2, pixel_size=0.05, resolution=0.0)
+    assert sum(len(q) for _, q, _ in raw.ordered()) > 1.5 * sum(len(q) for _, q, _ in lp.ordered())
+
+
+# ---------------------------------------------------------------------- infill patterns
+def _disc_with_hole(r=40.0):
+    t = np.linspace(0, 2 * np.pi, 256, endpoint=False)
+    return Polygon(np.c_[r * np.cos(t), r * np.sin(t)], (np.c_[8 * np.cos(t) + 3, 8 * np.sin(t)][::-1],), 0)
+
+
+@pytest.mark.parametrize("name", sorted(PATTERNS))
+@pytest.mark.parametrize("density", [0.2, 0.5])
+def test_pattern_covers_its_region_at_its_density_and_stays_inside(name, density):
+    disc = _disc_with_hole()
+    region = shapely.Polygon(disc.exterior, disc.holes)
+    w = 0.4
+    spacing = w / density
+    # Gyroid's density holds over a period of z; a layer is within -6 / +23 %.
+    zs = np.linspace(0, 2 * np.pi * spacing * GYROID_LENGTH, 8, endpoint=False)
+    densities = []
+    for k, z in enumerate(zs):
+        lines = fill_pattern(name, [disc], spacing, 45.0, layer_index=k, z=z)
+        pts = np.concatenate(lines)
+        assert shapely.distance(region, shapely.points(pts)).max() <= 1e-6
+        densities.append(sum(np.hypot(*np.diff(q, axis=0).T).sum() for q in lines) * w / region.area)
+    assert np.mean(densities) == pytest.approx(density, rel=0.10), densities
+
+
+def test_patterns_through_the_plan(tmp_path):
+    mesh = cube_with_hole(12.0, 3.0, 32)
+    for name in ("concentric", "gyroid"):
+        s = PrintSettings(**FAST, infill_pattern=name)
+        pp = plan(mesh, s, workers=1)
+        write_gcode(pp, tmp_path / f"{name}.gcode")
+        g = read_gcode((tmp_path / f"{name}.gcode").read_text())
+        _extrusions_inside_the_material(mesh, s, g)
+        sparse = g["type"] == "Internal infill"
+        assert (g["e"][sparse] > 0).sum() > 100
+
+
+def test_unknown_pattern_is_refused():
+    with pytest.raises(ValueError, match="^infill_pattern must be one of concentric, gyroid, rectilinear"):
+        PrintSettings(infill_pattern="honeycomb")
+
+
+# ---------------------------------------------------------------------- the G-code read back
+def _extrusions_inside_the_material(mesh, s, g):
+    """Every extrusion but the skirt's lies in its layer's material widened by half a line."""
+    height = float(mesh.bounds[1][2] - mesh.bounds[0][2])
+    bounds = layer_bounds(height, s.layer_height, s.first_layer_height)
+    offset = None
+    moving = (g["e"] > 0) & (np.hypot(*(g["end"] - g["start"])[:, :2].T) > 0) & (g["type"] != "Skirt/Brim")
+    checked = 0
+    for layer in np.unique(g["layer"][moving]):
+        sel = moving & (g["layer"] == layer)
+        sec = slicelab.section(mesh, (0, 0, mesh.bounds[0][2] + bounds[layer].mean()), (0, 0, 1))
+        region = sec.to_shapely().buffer(s.line_width / 2 + 1e-3)
+        if offset is None:
+            lo, hi = mesh.bounds
+            offset = np.array(s.centre) - (lo[:2] + hi[:2]) / 2
+        lines = shapely.linestrings(np.stack([g["start"][sel][:, :2], g["end"][sel][:, :2]], 1) - offset)
+        assert shapely.covers(region, lines).all(), layer
+        checked += int(sel.sum())
+    assert checked > 100
+
+
+def test_type_blocks_match_the_roles(cube):
+    mesh, s, pp, text, g, _ = cube
+    assert set(g["type"][g["e"] > 0]) <= {style.gcode_type for style in STYLES.values()}
+    for k, lp in enumerate(pp.layers):  # the lengths each ;TYPE: block extrudes are its role's paths
+        sel = (g["layer"] == k) & (g["e"] > 0) & (np.hypot(*(g["end"] - g["start"])[:, :2].T) > 0)
+        length = np.hypot(*(g["end"] - g["start"])[sel, :2].T)
+        written = {t: float(length[g["type"][sel] == t].sum()) for t in set(g["type"][sel])}
+        planned = {}
+        for kind, (_, q, _) in zip(lp.kinds(), lp.ordered()):
+            t = STYLES[kind].gcode_type
+            planned[t] = planned.get(t, 0.0) + float(np.hypot(*np.diff(q, axis=0).T).sum())
+        assert written.keys() == planned.keys()
+        for t in planned:
+            assert written[t] == pytest.approx(planned[t], rel=1e-3, abs=0.01), (k, t)
+    # Blocks come in the plan's order: the first layer starts with its skirt and brim.
+    first = g["type"][(g["layer"] == 0) & (g["e"] > 0)]
+    assert first[0] == "Skirt/Brim"
+    assert set(KINDS) == set(STYLES)
+
+
+def test_extrusions_lie_in_their_layers(cube):
+    mesh, s, pp, text, g, _ = cube
+    _extrusions_inside_the_material(mesh, s, g)
+
+
+def test_skirt_and_brim_around_the_first_layer(cube):
+    mesh, s, pp, text, g, _ = cube
+    lp = pp.layers[0]
+    assert len(lp.skirt_segments) == s.skirt_loops and len(lp.brim_segments) == round(s.brim_width / s.line_width)
+    sel = (g["layer"] == 0) & (g["type"] == "Skirt/Brim") & (g["e"] > 0)
+    lo, hi = mesh.bounds
+    offset = np.array(s.centre) - (lo[:2] + hi[:2]) / 2
+    sec = slicelab.section(mesh, (0, 0, lo[2] + 0.25), (0, 0, 1)).to_shapely()
+    pts = np.concatenate([g["start"][sel][:, :2], g["end"][sel][:, :2]]) - offset
+    d = shapely.distance(sec, shapely.points(pts))
+    w = s.line_width
+    brim = d < s.brim_width
+    # Brim loops touch the part and reach brim_width; the skirt's inner edge is skirt_distance past it.
+    assert d[brim].min() == pytest.approx(w / 2, abs=0.02) and d[brim].max() <= s.brim_width - w / 2 + 0.02
+    skirt = d[~brim]
+    assert skirt.min() == pytest.approx(s.brim_width + s.skirt_distance + w / 2, abs=0.02)
+    assert skirt.max() <= s.brim_width + s.skirt_distance + s.skirt_loops * w + 0.02
+    # The skirt prints first, then the brim, then the part.
+    kinds = lp.kinds()
+    assert kinds[:s.skirt_loops + 3] == ["skirt"] * s.skirt_loops + ["brim"] * 3
+    assert pp.layers[1].skirt_segments == [] and "skirt" not in pp.layers[1].kinds()
+
+
+def test_fan_and_temperatures_in_order(cube):
+    mesh, s, pp, text, g, _ = cube
+    cmds = [c for _, c in g["commands"]]
+    heat = [cmds.index(c) for c in ("M140 S60", "M104 S210", "M190 S60", "M109 S210")]
+    assert heat == sorted(heat) and heat[-1] < cmds.index("G28")
+    fan = [(k, c) for k, c in g["commands"] if c.startswith(("M106", "M107"))]
+    # Off from the start, on at 50 % (S127, PrusaSlicer's truncation) when layer 2 starts, off at the end.
+    assert fan == [(-1, "M107"), (s.fan_off_layers, "M106 S127"), (len(pp.layers) - 1, "M107")]
+    end = cmds[cmds.index("M106 S127"):]
+    assert end.index("M104 S0") < end.index("M140 S0") < end.index("M84")
+
+
+def test_fan_defaults_and_no_fan(tmp_path):
+    pp = plan(box((0, 0, 0), (6, 6, 1.2)), PrintSettings(**FAST, fan_speed=0), workers=1)
+    write_gcode(pp, tmp_path / "a.gcode")
+    assert "M106" not in (tmp_path / "a.gcode").read_text()
+    pp = plan(box((0, 0, 0), (6, 6, 1.2)), PrintSettings(**FAST), workers=1)
+    write_gcode(pp, tmp_path / "b.gcode")
+    g = read_gcode((tmp_path / "b.gcode").read_text())
+    assert [(k, c) for k, c in g["commands"] if c.startswith("M106")] == [(1, "M106 S255")]
+
+
+def test_time_estimate_is_the_sum_of_the_moves_read_back(cube):
+    mesh, s, pp, text, g, totals = cube
+    t = move_times(g["start"], g["end"], g["e"], g["feed"], acceleration=s.acceleration, jerk=s.jerk)
+    assert t.sum() == pytest.approx(totals["seconds"], rel=1e-6)
+    line = g["footer"]["estimated printing time (normal mode)"]
+    assert line == format_duration(totals["seconds"]) and abs(_seconds(line) - t.sum()) <= 0.5
+    # More than moving at the feed rates all the way, less than stopping at every vertex.
+    length = np.linalg.norm(g["end"] - g["start"], axis=1)
+    length = np.where(length > 0, length, np.abs(g["e"]))
+    assert (length / g["feed"]).sum() < t.sum() < (length / g["feed"] + g["feed"] / s.acceleration).sum()
+    # Filament used, as the footer says it.
+    xy = np.hypot(*(g["end"] - g["start"])[:, :2].T) > 0
+    used = g["e"][xy & (g["e"] > 0)].sum()
+    assert float(g["footer"]["filament used [mm]"]) == pytest.approx(used, abs=0.01)
+    assert float(g["footer"]["filament used [cm3]"]) == pytest.approx(used * s.filament_area / 1000, abs=0.01)
+    assert used == pytest.approx(pp.filament_length, rel=1e-3)
+
+
+def _planner_reference(start, end, e, feed, a, jerk):
+    """The same model with the look-ahead planner's passes written as plain loops."""
+    d = end - start
+    planar = np.hypot(d[:, 0], d[:, 1])
+    length = np.where(np.linalg.norm(d, axis=1) > 0, np.linalg.norm(d, axis=1), np.abs(e))
+    flat = (planar > 0) & (d[:, 2] == 0)
+    n = len(d)
+    cap = np.zeros(n + 1)
+    for j in range(1, n):
+        if flat[j - 1] and flat[j]:
+            u0, u1 = d[j - 1, :2] / planar[j - 1], d[j, :2] / planar[j]
+            s = 0.5 * np.linalg.norm(u1 - u0)
+            cap[j] = min(feed[j - 1], feed[j], jerk / (2 * s) if s > 1e-12 else np.inf) ** 2
+    u = cap.copy()
+    for j in range(1, n + 1):
+        u[j] = min(u[j], u[j - 1] + 2 * a * length[j - 1])
+    for j in range(n - 1, -1, -1):
+        u[j] = min(u[j], u[j + 1] + 2 * a * length[j])
+    t = np.zeros(n)
+    for i in range(n):
+        v0, v1, f, L = np.sqrt(u[i]), np.sqrt(u[i + 1]), feed[i], length[i]
+        da, dd = (f * f - v0 * v0) / (2 * a), (f * f - v1 * v1) / (2 * a)
+        if da + dd <= L:
+            t[i] = (f - v0) / a + (f - v1) / a + (L - da - dd) / f
+        else:
+            vp = np.sqrt(a * L + (v0 * v0 + v1 * v1) / 2)
+            t[i] = (2 * vp - v0 - v1) / a
+    return t
+
+
+def test_time_model_against_a_plain_planner():
+    rng = np.random.default_rng(3)
+    steps = rng.normal(size=(299, 3)) * [2.0, 2.0, 0.0]
+    steps[rng.random(299) < 0.05] = [0, 0, 0.2]  # Z moves
+    steps[rng.random(299) < 0.05] = 0  # extrusion-only moves
+    steps[rng.random(299) < 0.2] *= 0.01  # short ones
+    pts = np.vstack([np.zeros(3), np.cumsum(steps, axis=0)])
+    start, end = pts[:-1], pts[1:]
+    e = np.where(rng.random(299) < 0.1, 0.8, 0.05)
+    feed = rng.choice([25.0, 40.0, 80.0, 150.0], size=299)
+    t = move_times(start, end, e, feed, acceleration=1500.0, jerk=10.0)
+    np.testing.assert_allclose(t, _planner_reference(start, end, e, feed, 1500.0, 10.0), rtol=1e-9, atol=1e-12)
+    # One long move: L / F plus F / a for getting up to speed and back; a short one is a triangle.
+    assert move_times([[0, 0, 0]], [[100, 0, 0]], [0], [50], acceleration=1000)[0] == pytest.approx(2.05)
+    assert move_times([[0, 0, 0]], [[1, 0, 0]], [0], [50], acceleration=1000)[0] == pytest.approx(2 * np.sqrt(1e-3))
+
+
+# ---------------------------------------------------------------------- the bed and the settings
+def test_too_big_a_part_is_refused():
+    with pytest.raises(ValueError, match=r"^bed_size 250 x 210 mm: the part's footprint is 406 x 610 mm"):
+        plan(box((0, 0, 0), (406, 610, 10)), PrintSettings())
+    with pytest.raises(ValueError, match=r"^max_height 210 mm: the part is 250 mm tall"):
+        plan(box((0, 0, 0), (10, 10, 250)), PrintSettings())
+    with pytest.raises(ValueError, match=r"^bed_size 250 x 210 mm: .* with its skirt 212.8 x 212.8 mm"):
+        plan(box((0, 0, 0), (200, 200, 10)), PrintSettings())
+    plan_ok = plan(box((0, 0, 0), (200, 200, 0.4)), PrintSettings(skirt_loops=0, pixel_size=0.5), workers=1)
+    assert len(plan_ok.layers) == 2
+    with pytest.raises(ValueError, match=r"^bed_center \(20, 20\): the part centred there"):
+        check_bed(box((0, 0, 0), (50, 50, 10)), PrintSettings(bed_center=(20, 20)))
+    # The part is centred on the bed.
+    pp = plan(box((0, 0, 0), (6, 6, 0.8)), PrintSettings(**FAST, bed_size=(200, 180)), workers=1)
+    assert pp.offset[:2].tolist() == [97.0, 87.0]
+
+
+@pytest.mark.parametrize("field, value", [
+    ("gcode_resolution", -0.1), ("gcode_resolution", 0.5), ("acceleration", 0), ("jerk", -1),
+    ("fan_speed", 101), ("fan_off_layers", -1), ("fan_off_layers", 1.5), ("skirt_loops", -2),
+    ("skirt_distance", -1), ("brim_width", float("nan")), ("bed_size", (250,)), ("bed_size", (0, 10)),
+    ("max_height", 0), ("bed_center", (300, 10)), ("infill_pattern", "lines")])
+def test_bad_settings_name_the_field(field, value):
+    with pytest.raises(ValueError, match=f"^{field} "):
+        PrintSettings(**{field: value})
+
+
+def test_cli_slice_with_the_new_settings(tmp_path, data_dir):
+    out = tmp_path / "c.gcode"
+    stl = str(data_dir / "cube_with_hole.stl")
+    r = subprocess.run([sys.executable, "-m", "slicelab", "slice", stl, "-o", str(out), "--layer-height", "2",
+                        "--pixel-size", "0.2", "--workers", "1", "--infill-pattern", "gyroid", "--skirt-loops", "2",
+                        "--brim-width", "1", "--fan-speed", "40", "--fan-off-layers", "3", "--bed-size", "220x220",
+                        "--acceleration", "1500", "--gcode-resolution", "0.02"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    text = out.read_text()
+    assert "; infill_pattern = gyroid" in text and "; bed_size = (220.0, 220.0)" in text
+    assert "M106 S102" in text and ";TYPE:Skirt/Brim" in text
+    assert "; estimated printing time (normal mode) = " in text
+    for bad, flag in ((["--bed-size", "10x10"], "--bed-size 10 x 10 mm: the part's footprint is"),
+                      (["--max-height", "5"], "--max-height 5 mm: the part is"),
+                      (["--fan-speed", "300"], "--fan-speed must be"),
+                      (["--bed-size", "ten"], "--bed-size must be"),
+                      (["--skirt-loops", "-1"], "--skirt-loops must be")):
+        r = subprocess.run([sys.executable, "-m", "slicelab", "slice", stl, "-o", str(out), *bad],
+                           capture_output=True, text=True)
+        assert r.returncode == 2 and r.stderr.count("\n") == 1 and flag in r.stderr, r.stderr
