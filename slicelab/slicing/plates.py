@@ -143,9 +143,18 @@ class Plates:
                            for p, f in zip(self.plates, self.fill)]}
 
 
-def _turns(poly, rotate: bool) -> list[float]:
-    """Turns (degrees) worth trying: the four right angles, and those that square the outline's
-    smallest enclosing rectangle with the bed."""
+def _shrunk_union(outlines):
+    """The placed outlines as one prepared geometry, a micrometre inside their edges."""
+    import shapely
+    union = shapely.buffer(shapely.union_all(outlines), -1e-3)
+    shapely.prepare(union)
+    return union
+
+
+def _turns(poly, rotate: bool, fit: float = 0.0) -> list[float]:
+    """Turns (degrees) worth trying: the four right angles, those that square the outline's
+    smallest enclosing rectangle with the bed, and `fit` (the turn that makes the piece fit the
+    bed at all, a diagonal one for a long piece) with its right angles."""
     if not rotate:
         return [0.0]
     import shapely
@@ -156,49 +165,62 @@ def _turns(poly, rotate: bool) -> list[float]:
     out = [0.0, 90.0, 180.0, 270.0]
     if 1.0 < a < 89.0:  # (an outline squared with the axes up to its raster's noise needs no more)
         out += [(-a) % 360, (90 - a) % 360]
+    if fit % 90.0:
+        out += [(fit + q) % 360 for q in (0.0, 90.0, 180.0, 270.0)]
     return out
 
 
-def _place(poly, placed, X: float, Y: float, turns):
+_MAX_TESTS = 400  # exact outline tests per turn and plate: enough for the corners a plate offers
+
+
+def _place(poly, placed, X: float, Y: float, turns, union=None):
     """The lowest, then leftmost, free position of `poly` (turned by one of `turns`) on a plate.
 
     Candidate positions put the outline's lower-left corner at the plate's
-    origin, or against the right or top of a placed outline's box, or at one
-    of its vertices; the first candidate in (y, x) order that lies inside the
-    plate and meets no placed outline wins. Returns (turn, dx, dy) or None.
+    origin, against the right or top of a placed outline's box, or at one of
+    the corners of its convex hull; the first candidate in (y, x) order that
+    lies inside the plate and meets no placed outline wins. Candidates whose
+    box meets no placed box are free at once (one vectorised test); only the
+    others are tested against the outlines. Returns (turn, dx, dy, moved) or None.
     """
     import shapely
     from shapely import affinity
-    union = shapely.union_all(placed) if placed else None
-    if union is not None:
-        shapely.prepare(union)
-    xs, ys = [0.0], [0.0]
-    for q in placed:
-        x0, y0, x1, y1 = q.bounds
-        xs += [x1]
-        ys += [y1]
-        v = shapely.get_coordinates(q)
-        xs += v[:, 0].tolist()
-        ys += v[:, 1].tolist()
+    if union is None and placed:
+        union = _shrunk_union(placed)
+    boxes = np.array([q.bounds for q in placed]).reshape(-1, 4)
+    xs, ys = [np.zeros(1), boxes[:, 2]], [np.zeros(1), boxes[:, 3]]
+    for q in placed:  # over the pieces on the plate
+        v = shapely.get_coordinates(shapely.convex_hull(q))
+        xs.append(v[:, 0])
+        ys.append(v[:, 1])
+    xs, ys = np.concatenate(xs), np.concatenate(ys)
     best = None
     for turn in turns:  # a handful of turns
         p = affinity.rotate(poly, turn, origin=(0, 0))
         x0, y0, x1, y1 = p.bounds
         w, h = x1 - x0, y1 - y0
-        if w > X + 1e-9 or h > Y + 1e-9:
+        if w > X + 1e-6 or h > Y + 1e-6:  # (a piece as wide as the bed, up to rounding, fits)
             continue
-        cx = np.unique(np.clip(np.asarray(xs), 0, X - w))
-        cy = np.unique(np.clip(np.asarray(ys), 0, Y - h))
-        gx, gy = np.meshgrid(cx, cy)
-        order = np.lexsort((gx.ravel(), gy.ravel()))
-        for k in order:  # over candidate corners, lowest first; stops at the first free one
-            dx, dy = gx.ravel()[k] - x0, gy.ravel()[k] - y0
-            if best is not None and (gy.ravel()[k], gx.ravel()[k]) >= best[0]:
-                break
+        gx, gy = np.meshgrid(np.unique(np.clip(xs, 0, max(X - w, 0))), np.unique(np.clip(ys, 0, max(Y - h, 0))))
+        gx, gy = gx.ravel(), gy.ravel()
+        order = np.lexsort((gx, gy))
+        gx, gy = gx[order], gy[order]
+        if best is not None:  # only positions below (or left of) the best so far can win
+            keep = (gy < best[0][0]) | ((gy == best[0][0]) & (gx < best[0][1]))
+            gx, gy = gx[keep], gy[keep]
+        # Boxes that meet no placed box: the first of those is free without an exact test.
+        clear = ~((gx[:, None] < boxes[:, 2] - 1e-9) & (gx[:, None] + w > boxes[:, 0] + 1e-9)
+                  & (gy[:, None] < boxes[:, 3] - 1e-9) & (gy[:, None] + h > boxes[:, 1] + 1e-9)).any(axis=1)
+        first_clear = int(np.argmax(clear)) if clear.any() else len(gx)
+        # The candidates before it need the outlines: the first _MAX_TESTS of them, in order.
+        tested = list(range(min(first_clear, _MAX_TESTS))) + ([first_clear] if first_clear < len(gx) else [])
+        for k in tested:
+            dx, dy = gx[k] - x0, gy[k] - y0
             moved = affinity.translate(p, dx, dy)
-            # Outlines may touch (each already carries half the spacing), not overlap.
-            if union is None or not union.intersects(moved) or union.intersection(moved).area <= 1e-6 * p.area:
-                best = ((gy.ravel()[k], gx.ravel()[k]), turn, dx, dy, moved)
+            # Outlines may touch (each already carries half the spacing), not overlap: the union
+            # is shrunk by a micrometre, so touching is not meeting.
+            if k == first_clear or not union.intersects(moved):
+                best = ((gy[k], gx[k]), turn, dx, dy, moved)
                 break
     return None if best is None else best[1:]
 
@@ -240,7 +262,7 @@ def arrange(pieces, build_volume, *, spacing: float = 5.0, rotate: bool = True) 
         raise ValueError(f"build_volume must be three positive sizes, got {build_volume!r}")
     if not (spacing >= 0 and math.isfinite(spacing)):
         raise ValueError(f"spacing must be >= 0, got {spacing!r}")
-    laid, outlines, areas = [], [], []
+    laid, outlines, areas, fits = [], [], [], []
     for k, piece in enumerate(pieces):  # over pieces
         place = place_for_printing(piece, (X, Y, Z), rotate=rotate)
         if place is None:
@@ -258,17 +280,23 @@ def arrange(pieces, build_volume, *, spacing: float = 5.0, rotate: bool = True) 
         down[:3, 3] = [0.0, 0.0, -lo[2]]
         fp = footprint(piece.transformed(down))
         laid.append(down)
+        fits.append(place.turn)
         areas.append(float(fp.area))
-        outlines.append(shapely.buffer(fp, spacing / 2, join_style="mitre") if spacing > 0 else fp)
+        # Round joins: a mitre would grow spikes at sharp corners, far beyond half the spacing.
+        outlines.append(shapely.buffer(fp, spacing / 2, quad_segs=4) if spacing > 0 else fp)
     bound = math.ceil(sum(areas) / (X * Y) - 1e-9) if pieces else 0
     # The plate grows by half the spacing on each side: pieces may touch its edge.
     W, H = X + spacing, Y + spacing
     plates: list[dict] = []
     for i in sorted(range(len(laid)), key=lambda i: -areas[i]):  # largest first
-        turns = _turns(outlines[i], rotate)
+        turns = _turns(outlines[i], rotate, fits[i])
+        need = outlines[i].area
         for plate in plates + [None]:
-            target = plate if plate is not None else {"pieces": [], "matrices": [], "outlines": [], "area": 0.0}
-            spot = _place(outlines[i], target["outlines"], W, H, turns)
+            target = plate if plate is not None else {"pieces": [], "matrices": [], "outlines": [], "area": 0.0,
+                                                      "taken": 0.0, "union": None}
+            if plate is not None and W * H - target["taken"] < need:  # no room left, whatever the shapes
+                continue
+            spot = _place(outlines[i], target["outlines"], W, H, turns, target["union"])
             if spot is None:
                 if plate is None:  # pragma: no cover - a piece that fits the volume fits an empty plate
                     raise ValueError(f"piece {i} does not fit an empty plate")
@@ -282,6 +310,8 @@ def arrange(pieces, build_volume, *, spacing: float = 5.0, rotate: bool = True) 
             target["matrices"].append(R @ laid[i])
             target["outlines"].append(moved)
             target["area"] += areas[i]
+            target["taken"] += moved.area
+            target["union"] = _shrunk_union(target["outlines"])
             if plate is None:
                 plates.append(target)
             break

@@ -1,0 +1,83 @@
+"""The ``slicelab`` command line.
+
+Every command is a pair of functions, one that declares its arguments and
+one that runs the job of the same name (`slicelab.tasks.jobs`, which checks
+the parameters and writes the outputs, atomically) and prints what it did.
+Bad input ends with one line on stderr and exit status 2, never a traceback.
+
+==========================  =====================================================
+``cli.arguments``           argument types, the plane, job options, messages
+``cli.analysis``            inspect, section, layers, split, profile, batch
+``cli.fabrication``         cut, partition, arrange, slice
+==========================  =====================================================
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+
+from .. import __version__
+from ..mesh.formats import UNITS
+from ..mesh.io import MeshFileError
+from ..tasks.spec import ParameterError
+from . import analysis, fabrication
+from .arguments import UsageError, flag_message, negative_values, positive
+
+__all__ = ["main", "build_parser", "COMMANDS"]
+
+_TABLE = {**analysis.COMMANDS, **fabrication.COMMANDS}
+COMMANDS = ["inspect", "section", "layers", "split", "profile", "batch", "cut", "partition", "arrange", "slice"]
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser with every subcommand."""
+    parser = argparse.ArgumentParser(
+        prog="slicelab",
+        description="Exact slicing of STL meshes: checks, sections, splits, cuts and toolpaths.")
+    parser.add_argument("--version", action="version", version=f"slicelab {__version__}")
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND")
+    sub.required = True
+    for name in COMMANDS:
+        _TABLE[name][0](sub)
+    for p in sub.choices.values():  # every command reads mesh files: their units
+        g = p.add_argument_group("units of the input")
+        g.add_argument("--units", choices=tuple(UNITS), default=None,
+                       help="the unit the file is written in (default mm); coordinates are scaled to mm")
+        g.add_argument("--scale", type=positive, default=None, metavar="F",
+                       help="a further factor for the coordinates")
+    return parser
+
+
+def main(argv=None) -> int:
+    """Run the command line; return the exit status.
+
+    Examples
+    --------
+    >>> main(["--version"])  # doctest: +SKIP
+    slicelab 0.1.0
+    """
+    parser = build_parser()
+    args = parser.parse_args(negative_values(list(sys.argv[1:] if argv is None else argv)))
+    try:
+        return int(_TABLE[args.command][1](args) or 0)
+    except ParameterError as exc:
+        print(f"slicelab: error: {flag_message(exc)}", file=sys.stderr)
+        return 2
+    except (MeshFileError, UsageError) as exc:
+        print(f"slicelab: error: {exc}", file=sys.stderr)
+        return 2
+    except (ValueError, OSError) as exc:
+        msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        print(f"slicelab: error: {msg}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print("slicelab: error: out of memory: the parameters ask for more than this machine has "
+              "(a coarser --pixel-size or --layer-height needs less)", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("slicelab: interrupted", file=sys.stderr)
+        return 130
+
+
+if __name__ == "__main__":  # pragma: no cover
+    raise SystemExit(main())

@@ -1,0 +1,231 @@
+"""The commands that analyse a mesh: inspect, section, layers, split, profile, batch."""
+from __future__ import annotations
+
+import json
+import sys
+from pathlib import Path
+
+from ..mesh.io import MeshFileError
+from ..tasks.jobs import JOBS, run_job
+from .arguments import (
+    GIVEN, UsageError, add_plane_arguments, default, max_gap, no_preview, options, plane, positive,
+    say_repair, timings, vector, warn,
+)
+from ..tasks.batch import TASKS
+
+__all__ = ["COMMANDS"]
+
+
+def _add_inspect(sub) -> None:
+    p = sub.add_parser("inspect", help="load STL files and report their defects",
+                       description="Load each STL file and print its mesh report.")
+    p.add_argument("files", nargs="+", type=Path, metavar="FILE")
+    p.add_argument("--json", action="store_true", help="print one JSON object per file")
+
+
+def _run_inspect(args) -> int:
+    status = 0
+    for path in args.files:
+        try:
+            r = run_job("inspect", path, options(args, "inspect"))
+        except MeshFileError as exc:
+            print(f"slicelab: error: {exc}", file=sys.stderr)
+            status = 2
+            continue
+        elapsed = r.timings["load"] + r.timings["compute"]
+        if args.json:
+            print(json.dumps({"file": str(path), **r.results, "seconds": round(elapsed, 4)}))
+        else:
+            print(f"== {path}  ({elapsed:.2f} s)")
+            print(r.value)
+            warn(r)
+    return status
+
+
+def _add_section(sub) -> None:
+    p = sub.add_parser("section", help="cut a mesh with one plane and draw the section as SVG",
+                       description="Cut FILE with a plane; write the section as a true-scale SVG (mm).")
+    p.add_argument("file", type=Path, metavar="FILE")
+    add_plane_arguments(p)
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="OUT.svg")
+    max_gap(p, "section")
+
+
+def _run_section(args) -> int:
+    r = run_job("section", args.file, options(args, "section", plane=plane(args)), paths={"svg": args.output})
+    s = r.results
+    print(f"{args.file}: {r.n_facets} facets; section: {s['segments']} segments, {s['loops']} loops "
+          f"({s['holes']} holes), {s['open_chains']} open chains, {s['joined_gaps']} gaps joined, "
+          f"area {s['area']:.6g} mm2")
+    print(f"{timings(r, 'section')}; wrote {args.output}")
+    warn(r)
+    return 0
+
+
+def _add_layers(sub) -> None:
+    p = sub.add_parser("layers", help="slice a mesh into horizontal layers (SVG per layer + JSON)",
+                       description="Slice FILE at mid-layer heights; write one SVG per layer and "
+                                   "layers.json with every loop.")
+    p.add_argument("file", type=Path, metavar="FILE")
+    p.add_argument("--layer-height", type=positive, required=True, metavar="H")
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="DIR")
+    max_gap(p, "layers")
+    p.add_argument("--no-svg", dest="svg", action="store_false", default=GIVEN, help="layers.json only")
+
+
+def _run_layers(args) -> int:
+    r = run_job("layers", args.file, options(args, "layers"), args.output)
+    s = r.results
+    say_repair(r)
+    print(f"{args.file}: {r.n_facets} facets; {s['layers']} layers, {s['loops']} loops, "
+          f"{s['open_chains']} open chains")
+    print(f"{timings(r, 'slice')}; wrote {args.output}/")
+    warn(r)
+    return 0
+
+
+def _add_split(sub) -> None:
+    p = sub.add_parser("split", help="split a mesh by a plane into front, section and rear",
+                       description="Cut FILE with a plane into the part in front (the side the normal "
+                                   "points to) and the part behind; write DIR/front.stl, DIR/rear.stl "
+                                   "(each when not empty), DIR/section.svg and DIR/preview.png.")
+    p.add_argument("file", type=Path, metavar="FILE")
+    add_plane_arguments(p)
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="DIR")
+    p.add_argument("--visible-from", type=vector, default=GIVEN, metavar="X,Y,Z",
+                   help="keep only the facets facing a viewer in this direction (as for a drawing)")
+    max_gap(p, "split", "section chains")
+    no_preview(p)
+
+
+def _run_split(args) -> int:
+    r = run_job("split", args.file, options(args, "split", plane=plane(args)), args.output)
+    s = r.results
+    pieces = ", ".join(f"{n}.stl {s[n + '_facets']} facets" if s[n + "_facets"] else f"no {n}.stl (empty)"
+                       for n in ("front", "rear"))
+    print(f"{args.file}: {r.n_facets} facets: front {s['n_front']} / cut {s['cut_facets']} / rear {s['n_rear']} "
+          f"facets; {pieces}" + (" (facing the viewer)" if r.parameters["visible_from"] is not None else ""))
+    print(f"section: {s['section_segments']} segments, {s['section_loops']} loops, "
+          f"{s['section_open_chains']} open chains, area {s['section_area']:.6g} mm2")
+    for n in ("front", "rear"):
+        if s.get(f"{n}_collapsed_in_float32"):
+            print(f"{n}.stl: {s[f'{n}_collapsed_in_float32']} sliver facets that float32 rounding collapsed "
+                  f"were left out")
+    print(f"{timings(r, 'split')}; total {sum(r.timings.values()):.2f} s; wrote {args.output}/")
+    warn(r)
+    return 0
+
+
+def _add_profile(sub) -> None:
+    p = sub.add_parser("profile", help="align a scanned vessel and draw its profile with measurements",
+                       description="Align FILE on its axis of revolution, cut it through the axis at "
+                                   "--planes angles, write the archaeological profile drawing (SVG, 1:1 in "
+                                   "mm) and print the measurements.")
+    p.add_argument("file", type=Path, metavar="FILE")
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="OUT.svg")
+    p.add_argument("--png", dest="png_path", type=Path, metavar="OUT.png", help="also write the drawing as a PNG")
+    p.add_argument("--json", dest="json_path", type=Path, metavar="OUT.json",
+                   help="also write measurements and outlines as JSON")
+    p.add_argument("--planes", type=int, default=GIVEN, metavar="N",
+                   help=f"planes through the axis (default {default('profile', 'planes')})")
+    p.add_argument("--side", choices=("left", "right"), default=GIVEN,
+                   help="side of the axis for the section (default left; the exterior goes opposite)")
+    p.add_argument("--spread", action="store_true", default=GIVEN,
+                   help="draw every other half-section in grey")
+    p.add_argument("--no-align", dest="align", action="store_false", default=GIVEN,
+                   help="the mesh is already aligned (axis +z, base z=0)")
+    max_gap(p, "profile", "section chains")
+
+
+def _run_profile(args) -> int:
+    params = options(args, "profile", png=args.png_path is not None, json=args.json_path is not None)
+    r = run_job("profile", args.file, params,
+                paths={"svg": args.output, "png": args.png_path, "json": args.json_path})
+    p = r.value
+    if p.alignment is not None:
+        print(f"{args.file}: {r.n_facets} facets; {p.alignment!r}")
+    print(p.measurements)
+    t = r.timings
+    print(f"load {t['load']:.2f} s, align + profile {t['compute']:.2f} s, drawing {t['write']:.2f} s; "
+          f"wrote {args.output}")
+    warn(r)
+    return 0
+
+
+def _add_batch(sub) -> None:
+    p = sub.add_parser("batch", help="run one task over every STL file under a folder (resumable)",
+                       description="Run --task on every *.stl under DIR: one JSON report per file "
+                                   "(input SHA-256, parameters, outputs, timings, status ok/warn/fail and "
+                                   "reasons) in OUT, the outputs in a folder named after the file (the "
+                                   "same names as the command of the same name writes), and "
+                                   "OUT/summary.csv. Files whose report is up to date are skipped. Runs "
+                                   "on local processes, or on a Dask cluster given --scheduler "
+                                   "(pip install 'slicelab[cluster]').")
+    p.add_argument("folder", type=Path, metavar="DIR")
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="OUT")
+    p.add_argument("--task", choices=TASKS, required=True)
+    add_plane_arguments(p)
+    t = p.add_argument_group("task options (defaults as for the command of the same name)")
+    t.add_argument("--layer-height", type=positive, default=GIVEN, metavar="H", help="layers: layer height (mm)")
+    t.add_argument("--no-svg", dest="svg", action="store_false", default=GIVEN, help="layers: layers.json only")
+    t.add_argument("--planes", type=int, default=GIVEN, metavar="N", help="profile: planes through the axis")
+    t.add_argument("--side", choices=("left", "right"), default=GIVEN, help="profile: side of the section")
+    t.add_argument("--no-png", dest="png", action="store_false", default=GIVEN, help="profile: no PNG")
+    t.add_argument("--no-preview", dest="preview", action="store_false", default=GIVEN,
+                   help="split: no preview.png")
+    t.add_argument("--max-gap", type=float, default=GIVEN, metavar="MM", help="join open chains this close")
+    t.add_argument("--min-size", type=float, default=GIVEN, metavar="MM",
+                   help="flag parts smaller than this as implausible (default 2 mm)")
+    t.add_argument("--max-size", type=float, default=GIVEN, metavar="MM",
+                   help="flag parts larger than this as implausible (default 5000 mm)")
+    r = p.add_argument_group("running")
+    r.add_argument("--workers", type=int, metavar="N",
+                   help="local processes (default: CPU count; 1: in this process)")
+    r.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler, e.g. tcp://host:8786")
+    r.add_argument("--force", action="store_true", help="rerun files whose report is up to date")
+    r.add_argument("--retry-failed", action="store_true", help="rerun files whose report says fail")
+    r.add_argument("--no-progress", action="store_true", help="no progress bar")
+    r.add_argument("--exclude", action="append", default=[], metavar="GLOB",
+                   help="leave out paths under DIR matching this pattern (repeatable), e.g. 'large/*'")
+
+
+def _run_batch(args) -> int:
+    from ..tasks.batch import run_batch, task_parameters
+    if not args.folder.is_dir():
+        raise UsageError(f"{args.folder}: not a folder")
+    if args.workers is not None and args.workers < 1:
+        raise UsageError("--workers must be at least 1")
+    options = {n: getattr(args, n) for n in ("min_size", "max_size") if hasattr(args, n)}
+    given = plane(args, required=False)
+    if given is not None:
+        options["origin"], options["normal"] = given
+    # Every task option given goes to the task, which refuses the ones it does not take.
+    options.update({n: getattr(args, n) for task in TASKS for n in JOBS[task].defaults if hasattr(args, n)})
+    options.update({n: getattr(args, n) for n in ("units", "scale") if getattr(args, n, None) is not None})
+    params = task_parameters(args.task, **options)
+    from ..tasks.executors import NoWorkersLeft
+    try:
+        result = run_batch(args.folder, args.output, args.task, params, workers=args.workers,
+                           scheduler=args.scheduler, force=args.force, retry_failed=args.retry_failed,
+                           progress=False if args.no_progress else None, exclude=args.exclude)
+    except NoWorkersLeft as exc:
+        print(f"slicelab: error: {exc}", file=sys.stderr)
+        return 1
+    print(result)
+    for rep in result.reports:
+        if rep["status"] != "ok":
+            print(f"  {rep['status']:<4} {rep['file']}: {'; '.join(r['message'] for r in rep['reasons'])}")
+    print(f"wrote {result.summary}")
+    return 1 if result.count("fail") else 0
+
+
+
+#: Each command's (declare arguments, run) functions.
+COMMANDS = {
+    "inspect": (_add_inspect, _run_inspect),
+    "section": (_add_section, _run_section),
+    "layers": (_add_layers, _run_layers),
+    "split": (_add_split, _run_split),
+    "profile": (_add_profile, _run_profile),
+    "batch": (_add_batch, _run_batch),
+}

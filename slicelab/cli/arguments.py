@@ -1,0 +1,174 @@
+"""What the command line's commands share: argument types, the plane, job options, messages.
+
+Each command's parameters are its job's (`slicelab.tasks.jobs`): an option left
+out on the command line is left out of the job's parameters too, so the
+defaults live in one place, the job.
+"""
+from __future__ import annotations
+
+import argparse
+import re
+import sys
+
+import numpy as np
+
+from ..tasks.jobs import JOBS
+from ..tasks.spec import ParameterError
+
+__all__ = ["GIVEN", "FLAGS", "UsageError", "vector", "positive", "density", "volume", "pair", "default",
+           "options", "add_plane_arguments", "plane", "max_gap", "no_preview", "repair_flag",
+           "negative_values", "warn", "say_repair", "timings", "flag_message", "say_plates"]
+
+#: The default of a job option: absent unless given.
+GIVEN = argparse.SUPPRESS
+#: Parameters whose flag is not simply --name-with-dashes.
+FLAGS = {"n_perimeters": "--perimeters", "plane": "a plane (--z, or --origin and --normal)"}
+
+
+class UsageError(ValueError):
+    """A command-line argument that makes no sense (exit status 2)."""
+
+
+def vector(text: str) -> np.ndarray:
+    try:
+        values = [float(v) for v in text.split(",")]
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected three numbers like 1,0,0, got {text!r}") from None
+    if len(values) != 3 or not np.all(np.isfinite(values)):
+        raise argparse.ArgumentTypeError(f"expected three finite numbers like 1,0,0, got {text!r}")
+    return np.array(values)
+
+
+def positive(text: str) -> float:
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not (value > 0 and np.isfinite(value)):
+        raise argparse.ArgumentTypeError(f"expected a positive number, got {text!r}")
+    return value
+
+
+def density(text: str) -> float:
+    """A density as a fraction: ``20`` and ``20%`` are percentages, a bare number up to 1 a fraction."""
+    percent = text.strip().endswith("%")
+    try:
+        value = float(text.strip().rstrip("%"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a percentage like 20 or 20% or a fraction like 0.2, "
+                                         f"got {text!r}") from None
+    return value / 100 if percent or value > 1 else value
+
+
+def volume(text: str) -> tuple:
+    parts = text.lower().replace(",", "x").split("x")
+    try:
+        values = tuple(float(v) for v in parts)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a build volume like 200x200x200, got {text!r}") from None
+    if len(values) != 3 or not all(np.isfinite(v) and v > 0 for v in values):
+        raise argparse.ArgumentTypeError(f"expected three positive sizes like 200x200x200, got {text!r}")
+    return values
+
+
+def pair(text: str) -> tuple:
+    try:
+        values = tuple(float(v) for v in text.split(","))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected HEIGHT,DEPTH like 10,15, got {text!r}") from None
+    if len(values) != 2 or not all(np.isfinite(v) and v > 0 for v in values):
+        raise argparse.ArgumentTypeError(f"expected two positive sizes like 10,15, got {text!r}")
+    return values
+
+
+def default(job: str, name: str):
+    return JOBS[job].defaults[name]
+
+
+def options(args, job: str, **more) -> dict:
+    """The job's parameters given on the command line, how to read the file, and `more`."""
+    reading = {n: getattr(args, n) for n in ("units", "scale") if getattr(args, n, None) is not None}
+    return {**{n: getattr(args, n) for n in JOBS[job].defaults if hasattr(args, n)}, **reading, **more}
+
+
+def add_plane_arguments(p: argparse.ArgumentParser) -> None:
+    g = p.add_argument_group("plane (give --z, or --origin and --normal)")
+    g.add_argument("--z", type=float, help="horizontal plane at this height (mm)")
+    g.add_argument("--origin", type=vector, metavar="X,Y,Z", help="a point of the plane (mm)")
+    g.add_argument("--normal", type=vector, metavar="A,B,C", help="the plane's normal")
+
+
+def plane(args, required: bool = True):
+    """(origin, normal) from --z or --origin/--normal; None when none is given and none is required."""
+    if args.z is not None:
+        if args.origin is not None or args.normal is not None:
+            raise UsageError("give either --z or --origin/--normal, not both")
+        return np.array([0.0, 0.0, args.z]), np.array([0.0, 0.0, 1.0])
+    if args.origin is None and args.normal is None and not required:
+        return None
+    if args.origin is None or args.normal is None:
+        raise UsageError("give a plane: --z Z, or --origin X,Y,Z and --normal A,B,C")
+    return args.origin, args.normal
+
+
+def max_gap(p, job: str, what: str = "chains") -> None:
+    p.add_argument("--max-gap", type=float, default=GIVEN, metavar="MM",
+                   help=f"join open {what} whose ends are this close "
+                        f"(default {default(job, 'max_gap'):g} mm; 0 disables)")
+
+
+def no_preview(p, name: str = "preview.png") -> None:
+    p.add_argument("--no-preview", dest="preview", action="store_false", default=GIVEN,
+                   help=f"do not draw {name}")
+
+
+def repair_flag(p) -> None:
+    p.add_argument("--repair", action="store_true", default=GIVEN,
+                   help="first snap CAD float noise (near-coincident vertices), drop collapsed and duplicate "
+                        "facets and make windings agree (slicelab.repair); the changes are reported")
+
+
+def negative_values(argv: list[str]) -> list[str]:
+    """``--origin -3,2,1`` as ``--origin=-3,2,1``: argparse takes a value that starts with a minus
+    sign for an option unless it is a plain number."""
+    out, k = [], 0
+    while k < len(argv):
+        tok = argv[k]
+        if (tok.startswith("--") and "=" not in tok and k + 1 < len(argv)
+                and re.fullmatch(r"-[\d.][\d.eE+\-]*(,[-+]?[\d.][\d.eE+\-]*)*", argv[k + 1])):
+            out.append(f"{tok}={argv[k + 1]}")
+            k += 2
+            continue
+        out.append(tok)
+        k += 1
+    return out
+
+
+def warn(r, skip=()) -> None:
+    """Each warning the job found, as a sentence on stderr (its code is in the JSON reports)."""
+    for why in r.reasons:
+        if why["code"] not in skip:
+            print(f"slicelab: warning: {why['message']}", file=sys.stderr)
+
+
+def say_repair(r) -> None:
+    rep = r.results.get("repair")
+    if rep is not None:
+        print("repair: " + ("; ".join(rep["changes"]) if rep["changes"] else "nothing to repair"))
+
+
+def timings(r, verb: str) -> str:
+    t = r.timings
+    return f"load {t['load']:.2f} s, {verb} {t['compute']:.2f} s, write {t['write']:.2f} s"
+
+
+def flag_message(exc: ParameterError) -> str:
+    """A parameter's error in the words of the command line (``--max-gap must be ...``)."""
+    return f"{FLAGS.get(exc.name, '--' + exc.name.replace('_', '-'))} {exc.problem}"
+
+
+def say_plates(res: dict) -> None:
+    print(f"plates: {res['pieces']} pieces on {res['plates_used']} plates (one per plate: {res['one_per_plate']}; "
+          f"at least {res['lower_bound']} by area); "
+          + ", ".join(f"plate {k + 1} {100 * f:.0f} % covered" for k, f in enumerate(res["fill"])))
+

@@ -1,0 +1,174 @@
+"""The commands that make printable things: cut, partition, arrange, slice."""
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+from ..tasks.jobs import run_job
+from .arguments import (
+    GIVEN, UsageError, add_plane_arguments, density, no_preview, options, pair, plane, positive,
+    repair_flag, say_plates, say_repair, timings, volume, warn,
+)
+
+__all__ = ["COMMANDS"]
+
+
+def _add_cut(sub) -> None:
+    p = sub.add_parser("cut", help="cut a solid by a plane into two closed, capped parts",
+                       description="Cut FILE with a plane into two watertight parts, each capped on the "
+                                   "plane with a constrained Delaunay triangulation; write DIR/rear.stl "
+                                   "(the side against the normal), DIR/front.stl and DIR/exploded.png. "
+                                   "Exit status 1 when the section did not close (open input).")
+    p.add_argument("file", type=Path, metavar="FILE")
+    add_plane_arguments(p)
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="DIR")
+    no_preview(p, "exploded.png")
+    repair_flag(p)
+
+
+def _run_cut(args) -> int:
+    r = run_job("cut", args.file, options(args, "cut", plane=plane(args)), args.output)
+    say_repair(r)
+    print(f"{args.file}: {r.n_facets} facets; {r.value[2].report.describe()}")
+    for name in ("rear", "front"):
+        part = r.results.get(name)
+        if part is None:
+            print(f"{name}.stl: not written (the plane leaves nothing on that side)")
+            continue
+        print(f"{name}.stl: {part['facets']} facets, volume {part['volume']:.6g} mm3, "
+              f"{'watertight' if part['watertight'] else 'NOT watertight'} as written")
+    print(f"{timings(r, 'cut')}; wrote {args.output}/")
+    warn(r)
+    if not all(r.results[n]["watertight"] for n in ("rear", "front") if n in r.results):
+        print("slicelab: error: the parts are not watertight as written", file=sys.stderr)
+        return 1
+    return 0
+
+
+def _add_partition(sub) -> None:
+    p = sub.add_parser("partition", help="cut a solid into pieces that fit a printer's build volume",
+                       description="Cut FILE recursively until every piece fits the build volume; write "
+                                   "DIR/part_NNN.stl, DIR/parts.json (sizes, turns, glue areas) and "
+                                   "DIR/exploded.png.")
+    p.add_argument("file", type=Path, metavar="FILE")
+    p.add_argument("--volume", type=volume, required=True, metavar="XxYxZ",
+                   help="build volume in mm, e.g. 200x200x200")
+    p.add_argument("--joint", choices=("flat", "stair"), default=GIVEN,
+                   help="flat cuts (default), or interlocking stair joints with at least twice the glue area")
+    p.add_argument("--clearance", type=float, default=GIVEN, metavar="MM", help="glue gap (default 0)")
+    p.add_argument("--step", type=pair, default=GIVEN, metavar="H,D",
+                   help="stair step height and depth in mm (default 10,20)")
+    p.add_argument("--flight", type=int, default=GIVEN, metavar="N",
+                   help="stair steps up before stepping down (default 1: castellated)")
+    p.add_argument("--no-rotate", dest="rotate", action="store_false", default=GIVEN,
+                   help="do not turn pieces about z to fit")
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="DIR")
+    p.add_argument("--plates", action="store_true", default=GIVEN,
+                   help="also pack the pieces onto as few build plates as they fit: DIR/plate_NN.stl, "
+                        "DIR/plates.json, DIR/plate_NN.png")
+    p.add_argument("--spacing", type=float, default=GIVEN, metavar="MM",
+                   help="gap between pieces on a plate (default 5 mm)")
+    no_preview(p, "exploded.png")
+    repair_flag(p)
+
+
+def _run_partition(args) -> int:
+    r = run_job("partition", args.file, options(args, "partition"), args.output)
+    say_repair(r)
+    print(f"{args.file}: {r.n_facets} facets")
+    written = [w["watertight"] for w in r.results["written"].values()]
+    if "plates" in r.results:
+        say_plates(r.results["plates"])
+    print(r.value.report.describe(watertight=written))
+    print(f"{timings(r, 'partition')}; wrote {args.output}/ (pieces placed for printing; "
+          f"watertight as read back from the files)")
+    if not r.results["watertight"]:
+        for why in r.reasons:
+            print(f"slicelab: warning: {why['message']}", file=sys.stderr)
+        print(f"slicelab: error: {written.count(False)} of {len(written)} pieces are not watertight as written",
+              file=sys.stderr)
+        return 1
+    return 0
+
+
+def _add_arrange(sub) -> None:
+    p = sub.add_parser("arrange", help="pack pieces onto as few build plates as they fit",
+                       description="Lay each piece (one per file) on its largest flat face that fits, turn "
+                                   "it about z and pack the pieces onto build plates; write DIR/plate_NN.stl "
+                                   "(the pieces in place: slice it as one print), DIR/plates.json (placements) "
+                                   "and a top view DIR/plate_NN.png of each plate.")
+    p.add_argument("files", type=Path, nargs="+", metavar="PART")
+    p.add_argument("--volume", type=volume, required=True, metavar="XxYxZ", help="build volume in mm")
+    p.add_argument("--spacing", type=float, default=5.0, metavar="MM", help="gap between pieces (default 5 mm)")
+    p.add_argument("--no-rotate", dest="rotate", action="store_false", help="do not turn pieces about z")
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="DIR")
+    p.add_argument("--no-preview", dest="preview", action="store_false", help="do not draw plate_NN.png")
+
+
+def _run_arrange(args) -> int:
+    from ..tasks.jobs import check_output_dir
+    from ..tasks.plates import arrange_files
+    check_output_dir(args.output)
+    if not (args.spacing >= 0):
+        raise UsageError("--spacing must be >= 0")
+    res, why = arrange_files(args.files, args.volume, args.output, spacing=args.spacing, rotate=args.rotate,
+                             preview=args.preview, units=args.units, scale=args.scale)
+    say_plates(res)
+    print(f"wrote {args.output}/")
+    for w in why:
+        print(f"slicelab: warning: {w['message']}", file=sys.stderr)
+    return 0
+
+
+def _add_slice(sub) -> None:
+    p = sub.add_parser("slice", help="slice a part into printer G-code (perimeters, skins, infill)",
+                       description="Plan every layer of FILE (perimeters, solid top and bottom skins, "
+                                   "sparse infill) on all cores and write Marlin G-code. Settings left "
+                                   "out take slicelab.toolpath.PrintSettings' defaults.")
+    p.add_argument("file", type=Path, metavar="FILE")
+    p.add_argument("-o", "--output", type=Path, required=True, metavar="OUT.gcode")
+    p.add_argument("--layer-height", type=positive, default=GIVEN, metavar="H", help="(default 0.2 mm)")
+    p.add_argument("--first-layer-height", type=positive, default=GIVEN, metavar="H",
+                   help="default: the layer height")
+    p.add_argument("--perimeters", dest="n_perimeters", type=int, default=GIVEN, metavar="N",
+                   help="perimeters around every island (default 2)")
+    p.add_argument("--infill-density", type=density, default=GIVEN, metavar="D",
+                   help="sparse infill density: 20 or 20%% is a percentage, a bare number up to 1 a "
+                        "fraction (0.2); default 20%%")
+    p.add_argument("--infill-pattern", choices=("rectilinear", "concentric", "gyroid"), default=GIVEN)
+    for flag, kind, meta in (("--line-width", positive, "W"), ("--infill-angle", float, "DEG"),
+                             ("--top-layers", int, "N"), ("--bottom-layers", int, "N"),
+                             ("--pixel-size", positive, "MM"), ("--gcode-resolution", float, "MM"),
+                             ("--nozzle-temperature", float, "C"), ("--bed-temperature", float, "C"),
+                             ("--fan-speed", float, "PCT"), ("--fan-off-layers", int, "N"), ("--skirt-loops", int, "N"),
+                             ("--skirt-distance", float, "MM"), ("--brim-width", float, "MM"),
+                             ("--bed-size", str, "XxY"), ("--max-height", float, "MM"),
+                             ("--acceleration", float, "MM/S2"), ("--jerk", float, "MM/S")):
+        p.add_argument(flag, type=kind, default=GIVEN, metavar=meta)
+    p.add_argument("--workers", type=int, default=GIVEN, metavar="N", help="processes (default: all cores)")
+    p.add_argument("--preview", dest="preview_dir", type=Path, default=None, metavar="DIR",
+                   help="also write DIR/layer_*.svg and DIR/preview.png")
+    repair_flag(p)
+
+
+def _run_slice(args) -> int:
+    params = options(args, "slice", preview=args.preview_dir is not None)
+    r = run_job("slice", args.file, params, args.preview_dir, paths={"gcode": args.output})
+    s = r.results
+    say_repair(r)
+    print(f"{args.file}: {r.n_facets} facets; {s['layers']} layers, print {s['print_length'] / 1000:.1f} m, "
+          f"filament {s['filament_length'] / 1000:.2f} m ({s['extruded_volume'] / 1000:.2f} cm3)")
+    t = r.timings
+    print(f"load {t['load']:.2f} s, plan {t['compute']:.2f} s, write {t['write']:.2f} s; wrote {args.output}"
+          + (f" and {args.preview_dir}/" if args.preview_dir is not None else ""))
+    return 0
+
+
+
+#: Each command's (declare arguments, run) functions.
+COMMANDS = {
+    "cut": (_add_cut, _run_cut),
+    "partition": (_add_partition, _run_partition),
+    "arrange": (_add_arrange, _run_arrange),
+    "slice": (_add_slice, _run_slice),
+}
