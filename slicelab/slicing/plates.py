@@ -59,7 +59,8 @@ def footprint(mesh: Mesh, resolution: float = 0.25):
     # Facets smaller than a pixel (a scan's) mark the pixels of their corners and centroid; the
     # larger ones (few: a CAD part's) are filled one by one.
     small = area2 <= 2.0
-    dots = np.concatenate([q[small].reshape(-1, 2), q[small].mean(axis=1)])
+    # Every corner is marked (a thin facet can cover no pixel centre), and small facets' centroids.
+    dots = np.concatenate([q.reshape(-1, 2), q[small].mean(axis=1)])
     ij = np.clip(np.rint(dots).astype(np.int64), 0, np.array(shape[::-1]) - 1)
     img[ij[:, 1], ij[:, 0]] = 1
     big = np.round(q[~small & (area2 > 0)] * 16).astype(np.int32)  # 4 fractional bits
@@ -80,7 +81,9 @@ def footprint(mesh: Mesh, resolution: float = 0.25):
     grown = shapely.buffer(shapely.union_all(polys), resolution, join_style="mitre")
     # Clipped by the exact convex hull of the corners: a straight outside edge stays exact.
     hull = shapely.convex_hull(shapely.MultiPoint(t.reshape(-1, 2)))
-    return shapely.simplify(shapely.intersection(grown, hull), resolution / 4)
+    # Simplifying may cut up to its tolerance inside: grown back by as much, within the hull.
+    thin = shapely.simplify(shapely.intersection(grown, hull), resolution / 4)
+    return shapely.intersection(shapely.buffer(thin, resolution / 4, join_style="mitre"), hull)
 
 
 @dataclass(frozen=True)
@@ -285,8 +288,10 @@ def arrange(pieces, build_volume, *, spacing: float = 5.0, rotate: bool = True) 
         # Round joins: a mitre would grow spikes at sharp corners, far beyond half the spacing.
         outlines.append(shapely.buffer(fp, spacing / 2, quad_segs=4) if spacing > 0 else fp)
     bound = math.ceil(sum(areas) / (X * Y) - 1e-9) if pieces else 0
-    # The plate grows by half the spacing on each side: pieces may touch its edge.
-    W, H = X + spacing, Y + spacing
+    # The plate grows by half the spacing on each side (pieces may touch its edge), less what the
+    # polygonal round joins (4 segments a quarter) fall short of the true offset.
+    grow = spacing * math.cos(math.pi / 16)
+    W, H = X + grow, Y + grow
     plates: list[dict] = []
     for i in sorted(range(len(laid)), key=lambda i: -areas[i]):  # largest first
         turns = _turns(outlines[i], rotate, fits[i])
@@ -305,7 +310,7 @@ def arrange(pieces, build_volume, *, spacing: float = 5.0, rotate: bool = True) 
             a = math.radians(turn)
             R = np.eye(4)
             R[:2, :2] = [[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]]
-            R[:2, 3] = [dx - spacing / 2, dy - spacing / 2]
+            R[:2, 3] = [dx - grow / 2, dy - grow / 2]
             target["pieces"].append(i)
             target["matrices"].append(R @ laid[i])
             target["outlines"].append(moved)
