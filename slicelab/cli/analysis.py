@@ -8,17 +8,52 @@ from pathlib import Path
 from ..mesh.io import MeshFileError
 from ..tasks.jobs import JOBS, run_job
 from .arguments import (
+    command,
     GIVEN, UsageError, add_plane_arguments, default, max_gap, no_preview, options, plane, positive,
     say_repair, timings, vector, warn,
 )
 from ..tasks.batch import TASKS
 
-__all__ = ["COMMANDS"]
+__all__ = ["COMMANDS", "DOCS"]
+
+#: Each command's one-line help and description (``slicelab COMMAND --help``).
+DOCS = {
+    "inspect": {
+        "help": 'load STL files and report their defects',
+        "description": 'Load each STL file and print its mesh report.',
+    },
+    "section": {
+        "help": 'cut a mesh with one plane and draw the section as SVG',
+        "description": 'Cut FILE with a plane; write the section as a true-scale SVG (mm).',
+    },
+    "layers": {
+        "help": 'slice a mesh into horizontal layers (SVG per layer + JSON)',
+        "description": 'Slice FILE at mid-layer heights; write one SVG per layer and layers.json with every loop.',
+    },
+    "split": {
+        "help": 'split a mesh by a plane into front, section and rear',
+        "description": 'Cut FILE with a plane into the part in front (the side the normal points to) and the part '
+                       'behind; write DIR/front.stl, DIR/rear.stl (each when not empty), DIR/section.svg and '
+                       'DIR/preview.png.',
+    },
+    "profile": {
+        "help": 'align a scanned vessel and draw its profile with measurements',
+        "description": 'Align FILE on its axis of revolution, cut it through the axis at --planes angles, write '
+                       'the archaeological profile drawing (SVG, 1:1 in mm) and print the measurements.',
+    },
+    "batch": {
+        "help": 'run one task over every STL file under a folder (resumable)',
+        "description": 'Run --task on every *.stl under DIR: one JSON report per file (input SHA-256, parameters, '
+                       'outputs, timings, status ok/warn/fail and reasons) in OUT, the outputs in a folder named '
+                       'after the file (the same names as the command of the same name writes), and '
+                       'OUT/summary.csv. Files whose report is up to date are skipped. Runs on local processes, or '
+                       "on a Dask cluster given --scheduler (pip install 'slicelab[cluster]').",
+    },
+}
 
 
 def _add_inspect(sub) -> None:
-    p = sub.add_parser("inspect", help="load STL files and report their defects",
-                       description="Load each STL file and print its mesh report.")
+    p = command(sub, "inspect", DOCS, file=False)
     p.add_argument("files", nargs="+", type=Path, metavar="FILE")
     p.add_argument("--json", action="store_true", help="print one JSON object per file")
 
@@ -43,9 +78,7 @@ def _run_inspect(args) -> int:
 
 
 def _add_section(sub) -> None:
-    p = sub.add_parser("section", help="cut a mesh with one plane and draw the section as SVG",
-                       description="Cut FILE with a plane; write the section as a true-scale SVG (mm).")
-    p.add_argument("file", type=Path, metavar="FILE")
+    p = command(sub, "section", DOCS)
     add_plane_arguments(p)
     p.add_argument("-o", "--output", type=Path, required=True, metavar="OUT.svg")
     max_gap(p, "section")
@@ -63,10 +96,7 @@ def _run_section(args) -> int:
 
 
 def _add_layers(sub) -> None:
-    p = sub.add_parser("layers", help="slice a mesh into horizontal layers (SVG per layer + JSON)",
-                       description="Slice FILE at mid-layer heights; write one SVG per layer and "
-                                   "layers.json with every loop.")
-    p.add_argument("file", type=Path, metavar="FILE")
+    p = command(sub, "layers", DOCS)
     p.add_argument("--layer-height", type=positive, required=True, metavar="H")
     p.add_argument("-o", "--output", type=Path, required=True, metavar="DIR")
     max_gap(p, "layers")
@@ -85,11 +115,7 @@ def _run_layers(args) -> int:
 
 
 def _add_split(sub) -> None:
-    p = sub.add_parser("split", help="split a mesh by a plane into front, section and rear",
-                       description="Cut FILE with a plane into the part in front (the side the normal "
-                                   "points to) and the part behind; write DIR/front.stl, DIR/rear.stl "
-                                   "(each when not empty), DIR/section.svg and DIR/preview.png.")
-    p.add_argument("file", type=Path, metavar="FILE")
+    p = command(sub, "split", DOCS)
     add_plane_arguments(p)
     p.add_argument("-o", "--output", type=Path, required=True, metavar="DIR")
     p.add_argument("--visible-from", type=vector, default=GIVEN, metavar="X,Y,Z",
@@ -117,11 +143,7 @@ def _run_split(args) -> int:
 
 
 def _add_profile(sub) -> None:
-    p = sub.add_parser("profile", help="align a scanned vessel and draw its profile with measurements",
-                       description="Align FILE on its axis of revolution, cut it through the axis at "
-                                   "--planes angles, write the archaeological profile drawing (SVG, 1:1 in "
-                                   "mm) and print the measurements.")
-    p.add_argument("file", type=Path, metavar="FILE")
+    p = command(sub, "profile", DOCS)
     p.add_argument("-o", "--output", type=Path, required=True, metavar="OUT.svg")
     p.add_argument("--png", dest="png_path", type=Path, metavar="OUT.png", help="also write the drawing as a PNG")
     p.add_argument("--json", dest="json_path", type=Path, metavar="OUT.json",
@@ -153,14 +175,7 @@ def _run_profile(args) -> int:
 
 
 def _add_batch(sub) -> None:
-    p = sub.add_parser("batch", help="run one task over every STL file under a folder (resumable)",
-                       description="Run --task on every *.stl under DIR: one JSON report per file "
-                                   "(input SHA-256, parameters, outputs, timings, status ok/warn/fail and "
-                                   "reasons) in OUT, the outputs in a folder named after the file (the "
-                                   "same names as the command of the same name writes), and "
-                                   "OUT/summary.csv. Files whose report is up to date are skipped. Runs "
-                                   "on local processes, or on a Dask cluster given --scheduler "
-                                   "(pip install 'slicelab[cluster]').")
+    p = command(sub, "batch", DOCS, file=False)
     p.add_argument("folder", type=Path, metavar="DIR")
     p.add_argument("-o", "--output", type=Path, required=True, metavar="OUT")
     p.add_argument("--task", choices=TASKS, required=True)

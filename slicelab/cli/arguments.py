@@ -15,7 +15,7 @@ import numpy as np
 from ..tasks.jobs import JOBS
 from ..tasks.spec import ParameterError
 
-__all__ = ["GIVEN", "FLAGS", "UsageError", "vector", "positive", "density", "volume", "pair", "default",
+__all__ = ["GIVEN", "FLAGS", "command", "UsageError", "vector", "positive", "density", "volume", "pair", "default",
            "options", "add_plane_arguments", "plane", "max_gap", "no_preview", "repair_flag",
            "negative_values", "warn", "say_repair", "timings", "flag_message", "say_plates"]
 
@@ -172,3 +172,11 @@ def say_plates(res: dict) -> None:
           f"at least {res['lower_bound']} by area); "
           + ", ".join(f"plate {k + 1} {100 * f:.0f} % covered" for k, f in enumerate(res["fill"])))
 
+
+def command(sub, name: str, docs: dict, file: bool = True) -> argparse.ArgumentParser:
+    """A subcommand's parser with its help and description from `docs`, and its mesh FILE first (`file`)."""
+    from pathlib import Path
+    p = sub.add_parser(name, **docs[name])
+    if file:
+        p.add_argument("file", type=Path, metavar="FILE")
+    return p

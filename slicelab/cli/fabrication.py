@@ -6,20 +6,44 @@ from pathlib import Path
 
 from ..tasks.jobs import run_job
 from .arguments import (
+    command,
     GIVEN, UsageError, add_plane_arguments, density, no_preview, options, pair, plane, positive,
     repair_flag, say_plates, say_repair, timings, volume, warn,
 )
 
-__all__ = ["COMMANDS"]
+__all__ = ["COMMANDS", "DOCS"]
+
+#: Each command's one-line help and description (``slicelab COMMAND --help``).
+DOCS = {
+    "cut": {
+        "help": 'cut a solid by a plane into two closed, capped parts',
+        "description": 'Cut FILE with a plane into two watertight parts, each capped on the plane with a '
+                       'constrained Delaunay triangulation; write DIR/rear.stl (the side against the normal), '
+                       'DIR/front.stl and DIR/exploded.png. Exit status 1 when the section did not close (open '
+                       'input).',
+    },
+    "partition": {
+        "help": "cut a solid into pieces that fit a printer's build volume",
+        "description": 'Cut FILE recursively until every piece fits the build volume; write DIR/part_NNN.stl, '
+                       'DIR/parts.json (sizes, turns, glue areas) and DIR/exploded.png.',
+    },
+    "arrange": {
+        "help": 'pack pieces onto as few build plates as they fit',
+        "description": 'Lay each piece (one per file) on its largest flat face that fits, turn it about z and pack '
+                       'the pieces onto build plates; write DIR/plate_NN.stl (the pieces in place: slice it as one '
+                       'print), DIR/plates.json (placements) and a top view DIR/plate_NN.png of each plate.',
+    },
+    "slice": {
+        "help": 'slice a part into printer G-code (perimeters, skins, infill)',
+        "description": 'Plan every layer of FILE (perimeters, solid top and bottom skins, sparse infill) on all '
+                       "cores and write Marlin G-code. Settings left out take slicelab.toolpath.PrintSettings' "
+                       'defaults.',
+    },
+}
 
 
 def _add_cut(sub) -> None:
-    p = sub.add_parser("cut", help="cut a solid by a plane into two closed, capped parts",
-                       description="Cut FILE with a plane into two watertight parts, each capped on the "
-                                   "plane with a constrained Delaunay triangulation; write DIR/rear.stl "
-                                   "(the side against the normal), DIR/front.stl and DIR/exploded.png. "
-                                   "Exit status 1 when the section did not close (open input).")
-    p.add_argument("file", type=Path, metavar="FILE")
+    p = command(sub, "cut", DOCS)
     add_plane_arguments(p)
     p.add_argument("-o", "--output", type=Path, required=True, metavar="DIR")
     no_preview(p, "exploded.png")
@@ -46,11 +70,7 @@ def _run_cut(args) -> int:
 
 
 def _add_partition(sub) -> None:
-    p = sub.add_parser("partition", help="cut a solid into pieces that fit a printer's build volume",
-                       description="Cut FILE recursively until every piece fits the build volume; write "
-                                   "DIR/part_NNN.stl, DIR/parts.json (sizes, turns, glue areas) and "
-                                   "DIR/exploded.png.")
-    p.add_argument("file", type=Path, metavar="FILE")
+    p = command(sub, "partition", DOCS)
     p.add_argument("--volume", type=volume, required=True, metavar="XxYxZ",
                    help="build volume in mm, e.g. 200x200x200")
     p.add_argument("--joint", choices=("flat", "stair"), default=GIVEN,
@@ -92,11 +112,7 @@ def _run_partition(args) -> int:
 
 
 def _add_arrange(sub) -> None:
-    p = sub.add_parser("arrange", help="pack pieces onto as few build plates as they fit",
-                       description="Lay each piece (one per file) on its largest flat face that fits, turn "
-                                   "it about z and pack the pieces onto build plates; write DIR/plate_NN.stl "
-                                   "(the pieces in place: slice it as one print), DIR/plates.json (placements) "
-                                   "and a top view DIR/plate_NN.png of each plate.")
+    p = command(sub, "arrange", DOCS, file=False)
     p.add_argument("files", type=Path, nargs="+", metavar="PART")
     p.add_argument("--volume", type=volume, required=True, metavar="XxYxZ", help="build volume in mm")
     p.add_argument("--spacing", type=float, default=5.0, metavar="MM", help="gap between pieces (default 5 mm)")
@@ -121,11 +137,7 @@ def _run_arrange(args) -> int:
 
 
 def _add_slice(sub) -> None:
-    p = sub.add_parser("slice", help="slice a part into printer G-code (perimeters, skins, infill)",
-                       description="Plan every layer of FILE (perimeters, solid top and bottom skins, "
-                                   "sparse infill) on all cores and write Marlin G-code. Settings left "
-                                   "out take slicelab.toolpath.PrintSettings' defaults.")
-    p.add_argument("file", type=Path, metavar="FILE")
+    p = command(sub, "slice", DOCS)
     p.add_argument("-o", "--output", type=Path, required=True, metavar="OUT.gcode")
     p.add_argument("--layer-height", type=positive, default=GIVEN, metavar="H", help="(default 0.2 mm)")
     p.add_argument("--first-layer-height", type=positive, default=GIVEN, metavar="H",

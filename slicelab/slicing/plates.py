@@ -176,7 +176,7 @@ def _turns(poly, rotate: bool, fit: float = 0.0) -> list[float]:
 _MAX_TESTS = 400  # exact outline tests per turn and plate: enough for the corners a plate offers
 
 
-def _place(poly, placed, X: float, Y: float, turns, union=None):
+def _place(poly, placed, X: float, Y: float, turns, union=None, margin: float = 0.0):
     """The lowest, then leftmost, free position of `poly` (turned by one of `turns`) on a plate.
 
     Candidate positions put the outline's lower-left corner at the plate's
@@ -200,6 +200,9 @@ def _place(poly, placed, X: float, Y: float, turns, union=None):
     best = None
     for turn in turns:  # a handful of turns
         p = affinity.rotate(poly, turn, origin=(0, 0))
+        if margin > 0:
+            # Widened after the turn: the round joins' polygons then reach the full margin along x and y.
+            p = shapely.buffer(p, margin, quad_segs=4)
         x0, y0, x1, y1 = p.bounds
         w, h = x1 - x0, y1 - y0
         if w > X + 1e-6 or h > Y + 1e-6:  # (a piece as wide as the bed, up to rounding, fits)
@@ -285,23 +288,22 @@ def arrange(pieces, build_volume, *, spacing: float = 5.0, rotate: bool = True) 
         laid.append(down)
         fits.append(place.turn)
         areas.append(float(fp.area))
-        # Round joins: a mitre would grow spikes at sharp corners, far beyond half the spacing.
-        outlines.append(shapely.buffer(fp, spacing / 2, quad_segs=4) if spacing > 0 else fp)
+        outlines.append(fp)
     bound = math.ceil(sum(areas) / (X * Y) - 1e-9) if pieces else 0
-    # The plate grows by half the spacing on each side (pieces may touch its edge), less what the
-    # polygonal round joins (4 segments a quarter) fall short of the true offset.
-    grow = spacing * math.cos(math.pi / 16)
+    # Each outline is widened by half the spacing (round joins: a mitre would grow spikes at sharp
+    # corners), and the plate by as much on each side: pieces may touch its edge.
+    grow = spacing
     W, H = X + grow, Y + grow
     plates: list[dict] = []
     for i in sorted(range(len(laid)), key=lambda i: -areas[i]):  # largest first
         turns = _turns(outlines[i], rotate, fits[i])
-        need = outlines[i].area
+        need = outlines[i].area + spacing / 2 * outlines[i].length
         for plate in plates + [None]:
             target = plate if plate is not None else {"pieces": [], "matrices": [], "outlines": [], "area": 0.0,
                                                       "taken": 0.0, "union": None}
             if plate is not None and W * H - target["taken"] < need:  # no room left, whatever the shapes
                 continue
-            spot = _place(outlines[i], target["outlines"], W, H, turns, target["union"])
+            spot = _place(outlines[i], target["outlines"], W, H, turns, target["union"], spacing / 2)
             if spot is None:
                 if plate is None:  # pragma: no cover - a piece that fits the volume fits an empty plate
                     raise ValueError(f"piece {i} does not fit an empty plate")
@@ -311,6 +313,12 @@ def arrange(pieces, build_volume, *, spacing: float = 5.0, rotate: bool = True) 
             R = np.eye(4)
             R[:2, :2] = [[math.cos(a), -math.sin(a)], [math.sin(a), math.cos(a)]]
             R[:2, 3] = [dx - grow / 2, dy - grow / 2]
+            # The round joins' polygons may fall a few hundredths of a millimetre short of the
+            # margin: a piece that would overhang the plate by that much is pushed back onto it.
+            x0, y0, x1, y1 = affinity.translate(affinity.rotate(outlines[i], turn, origin=(0, 0)),
+                                                R[0, 3], R[1, 3]).bounds
+            R[0, 3] += max(0.0, -x0) - max(0.0, x1 - X)
+            R[1, 3] += max(0.0, -y0) - max(0.0, y1 - Y)
             target["pieces"].append(i)
             target["matrices"].append(R @ laid[i])
             target["outlines"].append(moved)
