@@ -8,9 +8,10 @@ from pathlib import Path
 from ..mesh.io import MeshFileError
 from ..tasks.jobs import JOBS, run_job
 from .arguments import (
+    finish,
     command,
     GIVEN, UsageError, add_plane_arguments, default, max_gap, no_preview, options, plane, positive,
-    say_repair, timings, vector, warn,
+    say_repair, vector, warn,
 )
 from ..tasks.batch import TASKS
 
@@ -90,9 +91,7 @@ def _run_section(args) -> int:
     print(f"{args.file}: {r.n_facets} facets; section: {s['segments']} segments, {s['loops']} loops "
           f"({s['holes']} holes), {s['open_chains']} open chains, {s['joined_gaps']} gaps joined, "
           f"area {s['area']:.6g} mm2")
-    print(f"{timings(r, 'section')}; wrote {args.output}")
-    warn(r)
-    return 0
+    return finish(r, 'section', f"; wrote {args.output}")
 
 
 def _add_layers(sub) -> None:
@@ -109,9 +108,7 @@ def _run_layers(args) -> int:
     say_repair(r)
     print(f"{args.file}: {r.n_facets} facets; {s['layers']} layers, {s['loops']} loops, "
           f"{s['open_chains']} open chains")
-    print(f"{timings(r, 'slice')}; wrote {args.output}/")
-    warn(r)
-    return 0
+    return finish(r, 'slice', f"; wrote {args.output}/")
 
 
 def _add_split(sub) -> None:
@@ -137,9 +134,7 @@ def _run_split(args) -> int:
         if s.get(f"{n}_collapsed_in_float32"):
             print(f"{n}.stl: {s[f'{n}_collapsed_in_float32']} sliver facets that float32 rounding collapsed "
                   f"were left out")
-    print(f"{timings(r, 'split')}; total {sum(r.timings.values()):.2f} s; wrote {args.output}/")
-    warn(r)
-    return 0
+    return finish(r, 'split', f"; total {sum(r.timings.values()):.2f} s; wrote {args.output}/")
 
 
 def _add_profile(sub) -> None:
@@ -174,6 +169,20 @@ def _run_profile(args) -> int:
     return 0
 
 
+_BATCH_OPTIONS = [
+    ("--layer-height", dict(type=positive, metavar="H", help="layers: layer height (mm)")),
+    ("--no-svg", dict(dest="svg", action="store_false", help="layers: layers.json only")),
+    ("--planes", dict(type=int, metavar="N", help="profile: planes through the axis")),
+    ("--side", dict(choices=("left", "right"), help="profile: side of the section")),
+    ("--no-png", dict(dest="png", action="store_false", help="profile: no PNG")),
+    ("--no-preview", dict(dest="preview", action="store_false", help="split: no preview.png")),
+    ("--max-gap", dict(type=float, metavar="MM", help="join open chains this close")),
+    ("--min-size", dict(type=float, metavar="MM", help="flag parts smaller than this as implausible (default 2 mm)")),
+    ("--max-size", dict(type=float, metavar="MM",
+                        help="flag parts larger than this as implausible (default 5000 mm)")),
+]
+
+
 def _add_batch(sub) -> None:
     p = command(sub, "batch", DOCS, file=False)
     p.add_argument("folder", type=Path, metavar="DIR")
@@ -181,18 +190,8 @@ def _add_batch(sub) -> None:
     p.add_argument("--task", choices=TASKS, required=True)
     add_plane_arguments(p)
     t = p.add_argument_group("task options (defaults as for the command of the same name)")
-    t.add_argument("--layer-height", type=positive, default=GIVEN, metavar="H", help="layers: layer height (mm)")
-    t.add_argument("--no-svg", dest="svg", action="store_false", default=GIVEN, help="layers: layers.json only")
-    t.add_argument("--planes", type=int, default=GIVEN, metavar="N", help="profile: planes through the axis")
-    t.add_argument("--side", choices=("left", "right"), default=GIVEN, help="profile: side of the section")
-    t.add_argument("--no-png", dest="png", action="store_false", default=GIVEN, help="profile: no PNG")
-    t.add_argument("--no-preview", dest="preview", action="store_false", default=GIVEN,
-                   help="split: no preview.png")
-    t.add_argument("--max-gap", type=float, default=GIVEN, metavar="MM", help="join open chains this close")
-    t.add_argument("--min-size", type=float, default=GIVEN, metavar="MM",
-                   help="flag parts smaller than this as implausible (default 2 mm)")
-    t.add_argument("--max-size", type=float, default=GIVEN, metavar="MM",
-                   help="flag parts larger than this as implausible (default 5000 mm)")
+    for flag, kw in _BATCH_OPTIONS:  # a table: every task option, with the task it is for
+        t.add_argument(flag, default=GIVEN, **kw)
     r = p.add_argument_group("running")
     r.add_argument("--workers", type=int, metavar="N",
                    help="local processes (default: CPU count; 1: in this process)")

@@ -15,7 +15,7 @@ import numpy as np
 from ..tasks.jobs import JOBS
 from ..tasks.spec import ParameterError
 
-__all__ = ["GIVEN", "FLAGS", "command", "UsageError", "vector", "positive", "density", "volume", "pair", "default",
+__all__ = ["GIVEN", "FLAGS", "command", "finish", "UsageError", "vector", "positive", "density", "volume", "pair", "default",
            "options", "add_plane_arguments", "plane", "max_gap", "no_preview", "repair_flag",
            "negative_values", "warn", "say_repair", "timings", "flag_message", "say_plates"]
 
@@ -180,3 +180,10 @@ def command(sub, name: str, docs: dict, file: bool = True) -> argparse.ArgumentP
     if file:
         p.add_argument("file", type=Path, metavar="FILE")
     return p
+
+
+def finish(r, verb: str, tail: str) -> int:
+    """The command's last lines: load, `verb` and write times with `tail`, then the job's warnings; status 0."""
+    print(f"{timings(r, verb)}{tail}")
+    warn(r)
+    return 0

@@ -112,15 +112,16 @@ def gyroid(polygons: list[Polygon], spacing: float, angle: float = 0.0, *, layer
     Parameters
     ----------
     polygons : list of Polygon
+        The region to fill.
     spacing : float
         ``line width / density``: the line length per unit area is ``1 / spacing``
         (averaged over z).
     angle : float
         Turn of the pattern about z (degrees), the same on every layer.
+    z : float
+        Height of the layer (mm): the surface's section changes with it.
     layer_index : int
         Unused (the pattern table's common signature).
-    z : float
-        Height of the layer (mm).
 
     Returns
     -------
