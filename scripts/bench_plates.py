@@ -13,8 +13,9 @@ bottom-left packing tries a few turns at the corners the placed pieces offer,
 about quadratic in the pieces on a plate.
 
 Reference, where `prusa-slicer` is installed: `prusa-slicer --export-stl --merge
---arrange 1` on the same pieces and bed: PrusaSlicer has one bed, so the
-comparison is how many pieces it fits on it against slicelab's first plate.
+--bed-shape ...` arranges the same pieces on its one bed and merges them; the
+comparison is the extent of its arrangement (does it fit one bed?) against
+slicelab's plate count.
 """
 from __future__ import annotations
 
@@ -31,7 +32,6 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import slicelab  # noqa: E402
-from slicelab.geometry import shells, weld  # noqa: E402
 from slicelab.slicing import arrange  # noqa: E402
 
 
@@ -41,8 +41,8 @@ def _objects():
     return [("pot sample, cut for an 80 mm cube", pot, (80.0, 80.0, 80.0)), ("1-metre pot", metre, None)]
 
 
-def _prusa_count(prusa: str, pieces, volume) -> int | None:
-    """How many pieces PrusaSlicer's arrange puts inside its one bed."""
+def _prusa_span(prusa: str, pieces, volume):
+    """The xy extent of PrusaSlicer's arrangement of the pieces on its one bed (None if it failed)."""
     X, Y, _ = volume
     with tempfile.TemporaryDirectory() as tmp:
         files = []
@@ -51,20 +51,13 @@ def _prusa_count(prusa: str, pieces, volume) -> int | None:
             slicelab.save(p, f)
             files.append(str(f))
         out = Path(tmp) / "merged.stl"
-        cmd = [prusa, "--export-stl", "--merge", "--arrange", "1", "--bed-shape", f"0x0,{X}x0,{X}x{Y},0x{Y}",
+        cmd = [prusa, "--export-stl", "--merge", "--bed-shape", f"0x0,{X}x0,{X}x{Y},0x{Y}",
                "--output", str(out), *files]
-        r = subprocess.run(cmd, capture_output=True, text=True, timeout=600)
+        r = subprocess.run(cmd, capture_output=True, text=True, timeout=1200)
         if r.returncode != 0 or not out.exists():
             return None
-        merged = slicelab.load(out)
-        v, f = weld(merged.triangles)
-        n, label = shells(f)
-        inside = 0
-        for s in range(n):  # over bodies
-            pts = v[f[label == s]].reshape(-1, 3)
-            inside += bool(np.all(pts[:, 0] >= -1e-3) and np.all(pts[:, 0] <= X + 1e-3)
-                           and np.all(pts[:, 1] >= -1e-3) and np.all(pts[:, 1] <= Y + 1e-3))
-        return inside
+        lo, hi = slicelab.load(out).bounds
+        return float(hi[0] - lo[0]), float(hi[1] - lo[1])
 
 
 def main() -> int:
@@ -84,10 +77,13 @@ def main() -> int:
             seconds = time.perf_counter() - t0
             ref = ""
             if prusa is not None:
-                count = _prusa_count(prusa, pieces, volume)
-                first = len(plates.plates[0].pieces)
-                ref = ("prusa-slicer --arrange failed" if count is None else
-                       f"PrusaSlicer fits {count} on its bed, slicelab's first plate {first}")
+                span = _prusa_span(prusa, pieces, volume)
+                if span is None:
+                    ref = "prusa-slicer failed"
+                else:
+                    fits = span[0] <= volume[0] + 1e-6 and span[1] <= volume[1] + 1e-6
+                    ref = (f"PrusaSlicer's arrangement spans {span[0]:.0f} x {span[1]:.0f} mm "
+                           f"({'one bed' if fits else 'more than one bed'})")
             size = "x".join(f"{v:g}" for v in volume)
             print(f"{name:<36} {size:<14} {len(pieces):6d} {len(plates):6d} {plates.lower_bound:5d} "
                   f"{len(pieces):7d} {100 * np.mean(plates.fill):6.1f} {seconds:7.2f}  {ref}")
