@@ -24,7 +24,7 @@ from layer_shapes import SHAPES, circle, section_of
 
 shapely = pytest.importorskip("shapely")
 
-FAST = dict(pixel_size=0.1, layer_height=0.4, first_layer_height=0.4)
+FAST = dict(pixel_size=0.1, layer_height=0.4, first_layer_height=0.4, nozzle_diameter=0.6)  # coarse: fast
 
 
 # ---------------------------------------------------------------------- reading G-code back
@@ -80,7 +80,7 @@ def _seconds(text):
 @pytest.fixture(scope="module")
 def cube(tmp_path_factory):
     mesh = cube_with_hole(20.0, 5.0, 32)
-    s = PrintSettings(pixel_size=0.1, layer_height=0.5, first_layer_height=0.5, skirt_loops=2,
+    s = PrintSettings(pixel_size=0.1, layer_height=0.5, first_layer_height=0.5, max_layer_ratio=1.25, skirt_loops=2,
                       skirt_distance=4.0, brim_width=1.2, fan_off_layers=2, fan_speed=50)
     pp = plan(mesh, s, workers=1)
     out = tmp_path_factory.mktemp("g") / "cube.gcode"
@@ -381,6 +381,7 @@ def test_cli_slice_with_the_new_settings(tmp_path, data_dir):
     out = tmp_path / "c.gcode"
     stl = str(data_dir / "cube_with_hole.stl")
     r = subprocess.run([sys.executable, "-m", "slicelab", "slice", stl, "-o", str(out), "--layer-height", "2",
+                        "--nozzle-diameter", "2.5", "--line-width", "2",
                         "--pixel-size", "0.2", "--workers", "1", "--infill-pattern", "gyroid", "--skirt-loops", "2",
                         "--brim-width", "1", "--fan-speed", "40", "--fan-off-layers", "3", "--bed-size", "220x220",
                         "--acceleration", "1500", "--gcode-resolution", "0.02"], capture_output=True, text=True)

@@ -14,7 +14,7 @@ from slicelab.samples import cube_with_hole, voxels
 
 shapely = pytest.importorskip("shapely")
 
-FAST = dict(pixel_size=0.1, layer_height=0.4, first_layer_height=0.4)
+FAST = dict(pixel_size=0.1, layer_height=0.4, first_layer_height=0.4, nozzle_diameter=0.6)  # coarse: fast
 
 
 def parse_gcode(text):
@@ -76,7 +76,7 @@ def test_layer_heights_and_count(cube_plan):
 
 
 def test_first_layer_height_is_its_own():
-    s = PrintSettings(pixel_size=0.1, layer_height=0.25, first_layer_height=0.4)
+    s = PrintSettings(pixel_size=0.1, layer_height=0.25, first_layer_height=0.4, nozzle_diameter=0.6)
     b = layer_bounds(2.0, s.layer_height, s.first_layer_height)
     np.testing.assert_allclose(b[:, 1], [0.4, 0.65, 0.9, 1.15, 1.4, 1.65, 1.9])  # middles inside
     pp = plan(slicelab.samples.box((0, 0, 0), (4, 4, 2)), s, workers=1)
@@ -106,7 +106,7 @@ def test_every_extrusion_lies_in_its_layer(cube_plan):
 def big_plan(tmp_path_factory):
     # Big enough for sparse filling to mean something (an 8 mm part has room for a few lines).
     mesh = cube_with_hole(20.0, 5.0, 32)
-    s = PrintSettings(pixel_size=0.2, layer_height=0.5, first_layer_height=0.5)
+    s = PrintSettings(pixel_size=0.2, layer_height=0.5, first_layer_height=0.5, max_layer_ratio=1.25)
     pp = plan(mesh, s, workers=1)
     out = tmp_path_factory.mktemp("g") / "big.gcode"
     write_gcode(pp, out)
@@ -221,7 +221,8 @@ def test_svg_and_png_previews(cube_plan, tmp_path):
 def test_cli_slice(tmp_path, data_dir):
     out = tmp_path / "c.gcode"
     r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(data_dir / "cube_with_hole.stl"), "-o",
-                        str(out), "--layer-height", "2", "--pixel-size", "0.2", "--workers", "1",
+                        str(out), "--layer-height", "2", "--nozzle-diameter", "2.5", "--line-width", "2",
+                        "--pixel-size", "0.2", "--workers", "1",
                         "--infill-density", "15%", "--preview", str(tmp_path / "prev")],
                        capture_output=True, text=True)
     assert r.returncode == 0, r.stderr

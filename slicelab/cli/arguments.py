@@ -88,7 +88,13 @@ def default(job: str, name: str):
 def options(args, job: str, **more) -> dict:
     """The job's parameters given on the command line, how to read the file, and `more`."""
     reading = {n: getattr(args, n) for n in ("units", "scale") if getattr(args, n, None) is not None}
-    return {**{n: getattr(args, n) for n in JOBS[job].defaults if hasattr(args, n)}, **reading, **more}
+    names = set(JOBS[job].defaults)
+    if job == "slice":  # its parameters are the print settings' fields
+        from dataclasses import fields
+
+        from ..toolpath import PrintSettings
+        names |= {f.name for f in fields(PrintSettings)}
+    return {**{n: getattr(args, n) for n in names if hasattr(args, n)}, **reading, **more}
 
 
 def add_plane_arguments(p: argparse.ArgumentParser) -> None:

@@ -157,6 +157,15 @@ def _add_slice(sub) -> None:
                              ("--bed-size", str, "XxY"), ("--max-height", float, "MM"),
                              ("--acceleration", float, "MM/S2"), ("--jerk", float, "MM/S")):
         p.add_argument(flag, type=kind, default=GIVEN, metavar=meta)
+    p.add_argument("--nozzle-diameter", type=positive, default=GIVEN, metavar="MM")
+    g = p.add_argument_group("printer and settings files")
+    g.add_argument("--printer", default=GIVEN, metavar="NAME",
+                   help="a bundled printer profile: prusa-mk3 (default values), generic-marlin-220, "
+                        "generic-klipper-300")
+    g.add_argument("--config", type=Path, default=GIVEN, metavar="FILE.toml",
+                   help="settings file: printer = NAME and a [settings] table; the flags given here override it")
+    g.add_argument("--print-config", action="store_true",
+                   help="print the settings in force (as a settings file) and stop")
     p.add_argument("--workers", type=int, default=GIVEN, metavar="N", help="processes (default: all cores)")
     p.add_argument("--preview", dest="preview_dir", type=Path, default=None, metavar="DIR",
                    help="also write DIR/layer_*.svg and DIR/preview.png")
@@ -165,6 +174,12 @@ def _add_slice(sub) -> None:
 
 def _run_slice(args) -> int:
     params = options(args, "slice", preview=args.preview_dir is not None)
+    if args.print_config:
+        from ..tasks.fabrication import slice_settings
+        from ..tasks.jobs import job_parameters
+        from ..toolpath.printers import format_config
+        print(format_config(slice_settings(job_parameters("slice", **params))), end="")
+        return 0
     r = run_job("slice", args.file, params, args.preview_dir, paths={"gcode": args.output})
     s = r.results
     say_repair(r)

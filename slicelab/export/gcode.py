@@ -30,6 +30,7 @@ import numpy as np
 
 from ..toolpath.estimate import format_duration, move_times
 from ..toolpath.planner import settings_dict
+from ..toolpath.printers import MARLIN_END, MARLIN_START, render_gcode
 from ..toolpath.roles import STYLES
 from .files import atomic_open
 from .svg import SvgDrawing
@@ -90,10 +91,9 @@ def gcode_lines(plan, totals: dict | None = None):
     for k, v in settings_dict(s).items():
         yield f"; {k} = {v}\n"
     yield (f"; layers = {len(plan.layers)}\n; estimated filament used [mm] = {plan.filament_length:.2f}\n"
-           f"M140 S{s.bed_temperature:.0f}\nM104 S{s.nozzle_temperature:.0f}\n"
-           f"M190 S{s.bed_temperature:.0f}\nM109 S{s.nozzle_temperature:.0f}\n"
-           "G21 ; millimetres\nG90 ; absolute XYZ\nM83 ; relative extrusion\nG28 ; home\n"
-           "G92 E0\nM107\n")
+           f"; flavor = {s.gcode_flavor}\n"
+           + render_gcode(s.start_gcode if s.start_gcode is not None else MARLIN_START, s)
+           + "G92 E0\nM107\n")
     k_e = s.extrusion_multiplier / s.filament_area
     speeds = {"external": s.external_perimeter_speed, "internal": s.perimeter_speed,
               "gap_fill": s.gap_fill_speed, "sparse": s.infill_speed, "solid": s.solid_infill_speed,
@@ -154,7 +154,7 @@ def gcode_lines(plan, totals: dict | None = None):
     if totals is not None:
         totals.update(seconds=seconds, filament=filament)
     yield (f"; end\nG1 E{-s.retraction_length:.5f} F{60 * s.retraction_speed:.0f}\n"
-           f"G1 Z{top:.3f} F600\nM104 S0\nM140 S0\nM107\nG28 X0\nM84\n")
+           f"G1 Z{top:.3f} F600\n" + render_gcode(s.end_gcode if s.end_gcode is not None else MARLIN_END, s))
     yield (f"\n; filament used [mm] = {filament:.2f}\n"
            f"; filament used [cm3] = {filament * s.filament_area / 1000:.2f}\n"
            f"; estimated printing time (normal mode) = {format_duration(seconds)}\n")

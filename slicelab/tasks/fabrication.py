@@ -25,7 +25,7 @@ from .spec import (
 )
 from .spec import plane as plane_value
 
-__all__ = ["CUT", "PARTITION", "SLICE"]
+__all__ = ["CUT", "PARTITION", "SLICE", "slice_settings"]
 
 
 # ------------------------------------------------------------------------- cut
@@ -178,10 +178,11 @@ PARTITION = Job(
 
 
 # ----------------------------------------------------------------------- slice
-_SETTINGS = ("layer_height", "first_layer_height", "line_width", "n_perimeters", "infill_density",
-             "infill_angle", "top_layers", "bottom_layers", "pixel_size", "nozzle_temperature",
-             "bed_temperature", "infill_pattern", "gcode_resolution", "fan_speed", "fan_off_layers",
-             "skirt_loops", "skirt_distance", "brim_width", "bed_size", "max_height", "acceleration", "jerk")
+def _setting_names() -> set:
+    from dataclasses import fields
+
+    from ..toolpath import PrintSettings
+    return {f.name for f in fields(PrintSettings)}
 
 
 def _size(name: str, value) -> list:
@@ -191,51 +192,74 @@ def _size(name: str, value) -> list:
     return vector(name, value, size=2, positive=True)
 
 
-def _slice_parameters(layer_height=None, first_layer_height=None, line_width=None, n_perimeters=None,
-                      infill_density=None, infill_angle=None, top_layers=None, bottom_layers=None,
-                      pixel_size=None, nozzle_temperature=None, bed_temperature=None, infill_pattern=None,
-                      gcode_resolution=None, fan_speed=None, fan_off_layers=None, skirt_loops=None,
-                      skirt_distance=None, brim_width=None, bed_size=None, max_height=None, acceleration=None,
-                      jerk=None, workers=None, preview: bool = False, repair: bool = False) -> dict:
-    """`slicelab.toolpath.PrintSettings` fields (None: its default; the first layer as thick as
-    the others unless given; bed_size as ``"250x210"`` or two numbers); workers: processes (None:
-    all cores); preview: layer SVGs and a PNG; repair: `slicelab.repair` the mesh first."""
+def _slice_parameters(printer=None, config=None, workers=None, preview: bool = False, repair: bool = False,
+                      **settings) -> dict:
+    """`slicelab.toolpath.PrintSettings` fields in `settings` (left out: the printer profile's, then the
+    settings file's, then PrintSettings' defaults; the first layer as thick as the others unless given;
+    bed_size as ``"250x210"`` or two numbers); printer: a bundled profile's name; config: a TOML
+    settings file; workers: processes (None: all cores); preview: layer SVGs and a PNG; repair:
+    `slicelab.repair` the mesh first."""
+    from dataclasses import fields
+
     from ..toolpath import PrintSettings
-    given = {k: v for k, v in locals().items() if k in _SETTINGS and v is not None}
-    if first_layer_height is None and layer_height is not None:
-        given["first_layer_height"] = layer_height
-    if infill_density is not None and not 0 <= number("infill_density", infill_density) <= 1:
-        raise ParameterError("infill_density", f"must be a fraction from 0 to 1 (0 % to 100 %), "
-                                               f"got {infill_density!r}")
-    if bed_size is not None:
-        given["bed_size"] = tuple(_size("bed_size", bed_size))
+    from ..toolpath.printers import resolve_settings
+    known = {f.name for f in fields(PrintSettings)}
+    for name in settings:
+        if name not in known:
+            raise ParameterError(name, "is not a print setting (see slicelab.toolpath.PrintSettings)")
+    given = {k: v for k, v in settings.items() if v is not None}
+    if "first_layer_height" not in given and "layer_height" in given:
+        given["first_layer_height"] = given["layer_height"]
+    density = given.get("infill_density")
+    if density is not None and not 0 <= number("infill_density", density) <= 1:
+        raise ParameterError("infill_density", f"must be a fraction from 0 to 1 (0 % to 100 %), got {density!r}")
+    if isinstance(given.get("bed_size"), str):
+        given["bed_size"] = tuple(_size("bed_size", given["bed_size"]))
     try:
-        PrintSettings(**given)
-    except ValueError as exc:  # PrintSettings' messages begin with the field's name
+        resolved = resolve_settings(printer=printer, config=config, **given)
+        if "first_layer_height" not in resolved and "layer_height" in resolved:
+            resolved["first_layer_height"] = resolved["layer_height"]
+        PrintSettings(**resolved)
+    except (ValueError, TypeError) as exc:  # PrintSettings' messages begin with the field's name
         name, _, problem = str(exc).partition(" ")
-        raise (ParameterError(name, problem) if name in _SETTINGS else exc) from None
-    return {**given, "workers": None if workers is None else whole("workers", workers, low=1),
+        raise (ParameterError(name, problem) if name in known | {"printer"} else ValueError(str(exc))) from None
+    return {**resolved, "workers": None if workers is None else whole("workers", workers, low=1),
             "preview": bool(preview), "repair": bool(repair)}
 
 
-def _slice_feasible(inp, p):
+def slice_settings(params: dict):
+    """The `PrintSettings` in force for checked slice parameters (`job_parameters("slice", ...)`)."""
+    return _settings(params)
+
+
+def _settings(p):
+    """The PrintSettings of checked slice parameters."""
     from ..toolpath import PrintSettings
-    from .limits import check_print
+    known = _setting_names()
+    return PrintSettings(**{k: v for k, v in p.items() if k in known})
+
+
+def _slice_feasible(inp, p):
     from ..toolpath.bed import check_bed
-    s = PrintSettings(**{k: v for k, v in p.items() if k in _SETTINGS})
+    from .limits import check_print
+    # An open or inside-out mesh has no inside: its layers would print fragments (pins for a plate).
+    why = _open_input(inp)
+    if why:
+        raise ValueError(f"{inp.path}: {why[0]['message']}; its layers would not be closed regions "
+                         f"(slicelab repair can close CAD noise: --repair)")
+    s = _settings(p)
     check_print(inp.mesh, layer_height=min(s.layer_height, s.first_layer_height), pixel_size=s.pixel_size,
                 line_width=s.line_width, n_perimeters=s.n_perimeters)
     try:
         check_bed(inp.mesh, s)
     except ValueError as exc:  # its message begins with the setting's name
         name, _, problem = str(exc).partition(" ")
-        raise (ParameterError(name, problem) if name in _SETTINGS else exc) from None
+        raise (ParameterError(name, problem) if name in _setting_names() else exc) from None
 
 
 def _slice_compute(inp, p):
-    from ..toolpath import PrintSettings, plan
-    settings = PrintSettings(**{k: v for k, v in p.items() if k in _SETTINGS})
-    return plan(inp.mesh, settings, workers=p["workers"])
+    from ..toolpath import plan
+    return plan(inp.mesh, _settings(p), workers=p["workers"])
 
 
 def _slice_write(pp, inp, p, out):

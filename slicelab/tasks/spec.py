@@ -361,14 +361,18 @@ class Job:
 
     @property
     def defaults(self) -> dict:
-        """Parameter name -> default."""
-        return {k: p.default for k, p in inspect.signature(self.parameters).parameters.items()}
+        """Parameter name -> default (``**kwargs`` left out)."""
+        return {k: p.default for k, p in inspect.signature(self.parameters).parameters.items()
+                if p.kind is not inspect.Parameter.VAR_KEYWORD}
 
     def check_parameters(self, **options) -> dict:
-        """`parameters` applied to `options`, refusing names the job does not take."""
+        """`parameters` applied to `options`, refusing names the job does not take (a job whose
+        `parameters` takes ``**kwargs`` checks those names itself)."""
         names = self.defaults
+        open_ended = any(p.kind is inspect.Parameter.VAR_KEYWORD
+                         for p in inspect.signature(self.parameters).parameters.values())
         for key in options:
-            if key not in names:
+            if key not in names and not open_ended:
                 raise ParameterError(key, f"is not a parameter of the {self.name} job "
                                           f"(it takes {', '.join(names) or 'none'})")
         return plain(self.parameters(**options))

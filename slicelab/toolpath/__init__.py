@@ -1,9 +1,11 @@
 """The printing half: layer rasters, distance fields, perimeters, infill, paths and the print plan.
 
 ==========================  =====================================================
+``toolpath.masks``          pixel masks on the world grid: whole windows, or blocks along a boundary
 ``toolpath.raster``         `rasterize` a section, the raster hole hierarchy, drawing lines
 ``toolpath.distance``       the exact distance field of a layer and its level sets
-``toolpath.perimeters``     erosion-based perimeters, filling limits, gap fill
+``toolpath.perimeters``     erosion-based perimeters, filling limits
+``toolpath.gapfill``        gap fill along the medial axis of what perimeters and filling miss
 ``toolpath.infill``         rectilinear filling lines
 ``toolpath.patterns``       infill patterns by name: rectilinear, concentric, gyroid
 ``toolpath.simplify``       Douglas-Peucker simplification of a layer's paths
@@ -12,6 +14,7 @@
 ``toolpath.bed``            `check_bed`: does the part fit the printer
 ``toolpath.roles``          path roles, their G-code ``;TYPE:`` words and colours
 ``toolpath.paths``          `layer_paths`: one layer's ordered toolpaths, coverage
+``toolpath.printers``        printer profiles, TOML settings files, start and end G-code
 ``toolpath.planner``        `plan` a whole part -> `PrintPlan`, `PrintSettings`
 ==========================  =====================================================
 """
@@ -20,12 +23,15 @@ from __future__ import annotations
 from .._lazy import attach
 
 # Submodule of each public name: they load on first use (matplotlib and the like are slow to import).
-_WHERE = {"GridMask": "raster", "LayerRaster": "raster", "RasterContours": "raster", "rasterize": "raster",
+_WHERE = {"PRINTERS": "printers", "FLAVORS": "printers", "resolve_settings": "printers", "read_config": "printers", "format_config": "printers", "render_gcode": "printers", "MARLIN_START": "printers", "MARLIN_END": "printers", "GridMask": "masks", "BlockMask": "masks", "bits_in_blocks": "masks", "open_mask": "masks", "LayerRaster": "raster", "RasterContours": "raster", "rasterize": "raster",
           "winding_numbers": "raster", "raster_hierarchy": "raster", "draw_polylines": "raster", "RULES": "raster",
+          "winding_blocks": "raster", "raster_blocks": "raster", "BLOCK": "raster", "BAND": "raster",
           "DistanceField": "distance", "signed_mask_distance": "distance", "distance_field": "distance",
           "level_rings": "distance",
           "level_polygons": "perimeters", "Perimeters": "perimeters", "layer_perimeters": "perimeters",
-          "medial_fill": "perimeters", "mask_rings": "perimeters",
+          "medial_fill": "gapfill", "mask_rings": "perimeters", "perimeter_depth": "perimeters",
+          "split_by_mask": "perimeters", "disc": "gapfill", "uncovered_blocks": "gapfill",
+          "medial_fill_blocks": "gapfill",
           "FillLines": "infill", "fill_lines": "infill", "rectilinear": "infill", "line_spacing": "infill",
           "PATTERNS": "patterns", "fill_pattern": "patterns", "concentric": "patterns", "gyroid": "patterns",
           "GYROID_LENGTH": "patterns", "simplify_mask": "simplify", "simplify_path": "simplify",
@@ -38,9 +44,10 @@ _WHERE = {"GridMask": "raster", "LayerRaster": "raster", "RasterContours": "rast
           "settings_dict": "planner"}
 
 
-__all__ = ["GridMask", "LayerRaster", "RasterContours", "rasterize", "winding_numbers", "raster_hierarchy",
-           "draw_polylines", "RULES", "DistanceField", "signed_mask_distance", "distance_field", "level_rings",
-           "level_polygons", "Perimeters", "layer_perimeters", "medial_fill", "mask_rings", "FillLines",
+__all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_config", "render_gcode", "MARLIN_START", "MARLIN_END", "GridMask", "BlockMask", "bits_in_blocks", "open_mask", "LayerRaster", "RasterContours", "rasterize", "winding_numbers", "raster_hierarchy",
+           "draw_polylines", "RULES", "winding_blocks", "raster_blocks", "BLOCK", "BAND", "DistanceField", "signed_mask_distance", "distance_field", "level_rings",
+           "level_polygons", "Perimeters", "layer_perimeters", "medial_fill", "mask_rings", "perimeter_depth",
+           "split_by_mask", "disc", "uncovered_blocks", "medial_fill_blocks", "FillLines",
            "fill_lines", "rectilinear", "line_spacing", "PATTERNS", "fill_pattern", "concentric", "gyroid",
            "GYROID_LENGTH", "simplify_mask", "simplify_path", "simplify_paths", "simplify_rings", "skirt_loops",
            "skirt_margin", "with_skirt", "move_times", "format_duration", "check_bed", "ISLAND_ROLES", "ROLES",

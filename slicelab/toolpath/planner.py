@@ -44,6 +44,12 @@ class PrintSettings:
     print `skirt_distance` around the first layer, and a brim reaches
     `brim_width` from it; the part must fit the bed (`bed_size`, x and y) and
     `max_height`, centred at `bed_center` (default the bed's middle).
+    The printer bounds what makes physical sense: layers at most
+    `max_layer_ratio` of the nozzle, lines `line_width_ratio` (low, high)
+    times the nozzle, temperatures up to `max_nozzle_temperature` and
+    `max_bed_temperature`; `gcode_flavor` and the `start_gcode` / `end_gcode`
+    templates (None: the flavour's own) shape the file
+    (`slicelab.toolpath.printers`, with bundled profiles).
     Wrong values raise ValueError, its message beginning with the field's name.
 
     Examples
@@ -96,6 +102,13 @@ class PrintSettings:
     bed_size: tuple = (250.0, 210.0)
     max_height: float = 210.0
     bed_center: tuple | None = None
+    gcode_flavor: str = "marlin"
+    start_gcode: str | None = None
+    end_gcode: str | None = None
+    max_nozzle_temperature: float = 300.0
+    max_bed_temperature: float = 120.0
+    max_layer_ratio: float = 0.8
+    line_width_ratio: tuple = (0.6, 2.5)
 
     def __post_init__(self):
         from .patterns import PATTERNS
@@ -139,10 +152,40 @@ class PrintSettings:
                 raise ValueError(f"{name} must be two {'positive ' if name == 'bed_size' else ''}numbers "
                                  f"(x, y in mm), got {v!r}")
             object.__setattr__(self, name, tuple(float(x) for x in v))
+        self._check_physical()
         cx, cy = self.centre
         if not (0 <= cx <= self.bed_size[0] and 0 <= cy <= self.bed_size[1]):
             raise ValueError(f"bed_center ({cx:g}, {cy:g}) must lie on the bed "
                              f"(0 to {self.bed_size[0]:g}, 0 to {self.bed_size[1]:g} mm)")
+
+    def _check_physical(self) -> None:
+        """What the printer and the nozzle allow (one sentence per refusal, naming the field)."""
+        from .printers import FLAVORS
+        try:
+            ratio = tuple(float(v) for v in self.line_width_ratio)
+        except (TypeError, ValueError):
+            ratio = ()
+        if len(ratio) != 2 or not 0 < ratio[0] <= ratio[1]:
+            raise ValueError(f"line_width_ratio must be two numbers 0 < low <= high, got {self.line_width_ratio!r}")
+        object.__setattr__(self, "line_width_ratio", ratio)
+        if self.gcode_flavor not in FLAVORS:
+            raise ValueError(f"gcode_flavor must be one of {', '.join(FLAVORS)}, got {self.gcode_flavor!r}")
+        low, high = (float(v) for v in self.line_width_ratio)
+        d = self.nozzle_diameter
+        for name in ("layer_height", "first_layer_height"):
+            v = getattr(self, name)
+            if v > self.max_layer_ratio * d + 1e-12:
+                raise ValueError(f"{name} {v:g} mm is more than {self.max_layer_ratio:g} x the {d:g} mm nozzle "
+                                 f"({self.max_layer_ratio * d:g} mm): the layers would not bond")
+        if not (low * d - 1e-12 <= self.line_width <= high * d + 1e-12):
+            raise ValueError(f"line_width {self.line_width:g} mm is outside {low:g} to {high:g} x the {d:g} mm "
+                             f"nozzle ({low * d:g} to {high * d:g} mm)")
+        for name, limit in (("nozzle_temperature", self.max_nozzle_temperature),
+                            ("bed_temperature", self.max_bed_temperature)):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and 0 <= v <= limit):
+                raise ValueError(f"{name} {v:g} C is outside what the printer allows (0 to {limit:g} C)"
+                                 if isinstance(v, (int, float)) else f"{name} must be a number, got {v!r}")
 
     @property
     def centre(self) -> tuple:
@@ -270,12 +313,16 @@ _RUN = 10  # layers per task
 
 
 def _skin_masks(k: int, masks: dict, n: int, s: PrintSettings):
-    """Top and bottom skin of layer k: its material missing from any of the layers above/below."""
-    from .raster import GridMask
+    """Top and bottom skin of layer k: its material missing from any of the layers above/below.
+
+    Layer masks are held by blocks along their boundaries (`slicelab.toolpath.masks.BlockMask`):
+    the differences and the opening work block by block, so their cost follows the boundaries.
+    """
+    from .masks import open_mask
     mine = masks[k]
     if mine is None:
         return None
-    skin = GridMask(np.zeros(mine.shape, bool), mine.row0, mine.col0, mine.pixel_size)
+    skin = None
     for rng in (range(k + 1, k + 1 + s.top_layers), range(k - 1, k - 1 - s.bottom_layers, -1)):
         covered = mine
         for j in rng:  # over the few neighbouring layers
@@ -284,15 +331,12 @@ def _skin_masks(k: int, masks: dict, n: int, s: PrintSettings):
                 covered = None
                 break
             covered = covered & other
-        skin = skin | (mine - covered) if covered is not None else mine
-    if not skin.mask.any():
+        part = mine if covered is None else mine - covered
+        skin = part if skin is None else skin | part
+    if skin.area == 0:
         return None
-    import cv2
     # Slivers narrower than a line width (a sloped wall's edge) are the perimeters' business.
-    r = max(1, int(round(0.5 * s.line_width / s.pixel_size)))
-    kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
-    opened = cv2.morphologyEx(skin.mask.astype(np.uint8), cv2.MORPH_OPEN, kernel).astype(bool)
-    return GridMask(opened, skin.row0, skin.col0, skin.pixel_size) if opened.any() else None
+    return open_mask(skin, max(1, int(round(0.5 * s.line_width / s.pixel_size))))
 
 
 def _run_chunk(first: int, stop: int):
@@ -334,19 +378,27 @@ def _run_chunk(first: int, stop: int):
 
 def _areas(lp, raster, solid, s: PrintSettings) -> tuple[float, float, float, float]:
     """Material area, area inside the last perimeter, its solid part (pixel counts, mm^2), and
-    the length of the sparse filling region's boundary (mm)."""
+    the length of the sparse filling region's boundary (mm).
+
+    Counted on the distance fields' blocks: blocks deep inside count whole.
+    """
+    from ..geometry.blocks import FULL
+    from .masks import bits_in_blocks
     per = lp.perimeters
     p = s.pixel_size
     edge = sum(float(np.hypot(*(np.roll(r, -1, axis=0) - r).T).sum())
                for q in per.fill for r in (q.exterior, *q.holes))
     total = inner = sol = 0.0
     for f in per.fields:  # over tiles
-        m = f.grid.mask
-        total += np.count_nonzero(m)
-        region = m & (f.values >= s.n_perimeters * s.line_width)
-        inner += np.count_nonzero(region)
+        g = f.grid.blocks
+        whole = g.n_full * g.size ** 2
+        region = f.grid.bits & (f.blocks >= s.n_perimeters * s.line_width)
+        total += np.count_nonzero(f.grid.bits) + whole
+        inner += np.count_nonzero(region) + whole
         if solid is not None:
-            sol += np.count_nonzero(region & solid.window(f.grid.row0, f.grid.col0, f.grid.shape))
+            sol += np.count_nonzero(region & bits_in_blocks(solid, g.rows, g.cols, g.size))
+            fr, fc = np.nonzero(g.table == FULL)
+            sol += np.count_nonzero(bits_in_blocks(solid, fr + g.row0, fc + g.col0, g.size))
     return total * p * p, inner * p * p, sol * p * p, edge
 
 

@@ -1,0 +1,95 @@
+"""Printer profiles, settings files, physical checks, start and end G-code."""
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+import slicelab
+from slicelab.export import gcode_lines
+from slicelab.samples import box
+from slicelab.toolpath import PRINTERS, PrintSettings, format_config, read_config, resolve_settings
+
+
+def run(*args):
+    return subprocess.run([sys.executable, "-m", "slicelab", *map(str, args)], capture_output=True, text=True,
+                          timeout=300)
+
+
+@pytest.mark.parametrize("bad, words", [
+    (dict(layer_height=25.0), "layer_height 25 mm is more than 0.8 x the 0.4 mm nozzle"),
+    (dict(line_width=5.0), "line_width 5 mm is outside 0.6 to 2.5 x the 0.4 mm nozzle"),
+    (dict(nozzle_temperature=1000), "nozzle_temperature 1000 C is outside what the printer allows"),
+    (dict(bed_temperature=-5), "bed_temperature -5 C is outside"),
+    (dict(gcode_flavor="sailfish"), "gcode_flavor must be one of"),
+])
+def test_settings_a_printer_cannot_take_are_refused(bad, words):
+    with pytest.raises(ValueError, match=words.replace("(", r"\(")):
+        PrintSettings(**bad)
+
+
+def test_the_limits_are_settings_too():
+    s = PrintSettings(layer_height=0.5, first_layer_height=0.5, max_layer_ratio=1.25)
+    assert s.layer_height == 0.5
+    assert PrintSettings(line_width=1.2, line_width_ratio=(0.5, 3.0)).line_width == 1.2
+
+
+def test_a_settings_file_round_trips(tmp_path):
+    s = PrintSettings(**resolve_settings(printer="generic-marlin-220", layer_height=0.15, infill_density=0.3))
+    f = tmp_path / "printer.toml"
+    f.write_text(format_config(s))
+    again = PrintSettings(**resolve_settings(config=f))
+    assert again == s
+    assert again.bed_size == (220.0, 220.0) and again.layer_height == 0.15
+
+
+def test_profile_then_file_then_flags(tmp_path):
+    f = tmp_path / "p.toml"
+    f.write_text('printer = "generic-klipper-300"\n[settings]\nlayer_height = 0.3\ninfill_density = 0.4\n')
+    assert read_config(f)["printer"] == "generic-klipper-300"
+    s = resolve_settings(config=f, infill_density=0.1)
+    assert s["bed_size"] == PRINTERS["generic-klipper-300"]["bed_size"]
+    assert s["layer_height"] == 0.3 and s["infill_density"] == 0.1
+    with pytest.raises(ValueError, match="printer must be one of"):
+        resolve_settings(printer="makerbot-9000")
+    (tmp_path / "bad.toml").write_text("layer_height = [")
+    with pytest.raises(ValueError, match="not a TOML settings file"):
+        read_config(tmp_path / "bad.toml")
+
+
+def test_start_and_end_gcode_fill_their_placeholders():
+    s = PrintSettings(start_gcode="; hello {bed_size_x:g}x{bed_size_y:g}\nM190 S{bed_temperature:.0f}\n",
+                      end_gcode="; bye at {max_height:g}\n", bed_temperature=55)
+    pp = slicelab.plan(box((0, 0, 0), (5, 5, 0.6)), PrintSettings(**{**s.__dict__, "pixel_size": 0.1}), workers=1)
+    text = "".join(gcode_lines(pp))
+    assert text.index("; hello 250x210\nM190 S55\n") < text.index(";LAYER_CHANGE")
+    assert text.rindex("; bye at 210\n") > text.rindex(";LAYER_CHANGE")
+    assert "; flavor = marlin" in text
+
+
+def test_cli_config_printer_and_print_config(tmp_path, data_dir):
+    f = tmp_path / "p.toml"
+    f.write_text('printer = "generic-marlin-220"\n[settings]\nlayer_height = 0.25\n')
+    r = run("slice", data_dir / "cube_with_hole.stl", "-o", tmp_path / "x.gcode", "--config", f,
+            "--infill-density", "35%", "--print-config")
+    assert r.returncode == 0, r.stderr
+    shown = r.stdout
+    assert "bed_size = [220.0, 220.0]" in shown and "layer_height = 0.25" in shown
+    assert "infill_density = 0.35" in shown and not (tmp_path / "x.gcode").exists()
+    (tmp_path / "shown.toml").write_text(shown)
+    assert PrintSettings(**read_config(tmp_path / "shown.toml")).infill_density == 0.35
+    for args, words in ((["--layer-height", "25"], "--layer-height 25 mm is more than"),
+                        (["--line-width", "5"], "--line-width 5 mm is outside"),
+                        (["--nozzle-temperature", "1000"], "--nozzle-temperature 1000 C is outside"),
+                        (["--printer", "nope"], "--printer must be one of")):
+        r = run("slice", data_dir / "cube_with_hole.stl", "-o", tmp_path / "y.gcode", *args)
+        assert r.returncode == 2 and words in r.stderr and r.stderr.count("\n") == 1, r.stderr
+
+
+def test_slice_refuses_an_open_mesh_with_what_is_wrong(tmp_path):
+    plate = box((0, 0, 0), (60, 40, 3))
+    slicelab.save(slicelab.Mesh(plate.triangles[::2]), tmp_path / "holes.stl")   # every other facet gone
+    r = run("slice", tmp_path / "holes.stl", "-o", tmp_path / "p.gcode")
+    assert r.returncode == 2 and "not watertight" in r.stderr and "open" in r.stderr
+    assert r.stderr.count("\n") == 1 and not (tmp_path / "p.gcode").exists()
