@@ -40,9 +40,9 @@ STEPS = [
     ("cube with a hole: G-code (perimeters, solid skins, 20% infill) and previews",
      ["slice", str(DATA / "cube_with_hole.stl"), "-o", str(OUT / "cube_with_hole.gcode"),
       "--preview", str(OUT / "cube_with_hole_preview")], None),
-    ("pot: G-code at 2 mm layers, coarse pixels (a quick demo; the default is 0.2 mm / 0.05 mm)",
-     ["slice", str(DATA / "pot.stl"), "-o", str(OUT / "pot.gcode"), "--layer-height", "2", "--line-width", "0.8",
-      "--pixel-size", "0.2", "--preview", str(OUT / "pot_preview")], None),
+    ("pot: G-code for a 0.8 mm nozzle, 0.6 mm layers (printable; the defaults are a 0.4 mm nozzle and 0.2 mm)",
+     ["slice", str(DATA / "pot.stl"), "-o", str(OUT / "pot.gcode"), "--nozzle-diameter", "0.8", "--line-width",
+      "0.8", "--layer-height", "0.6", "--pixel-size", "0.1", "--preview", str(OUT / "pot_preview")], None),
 ]
 
 
