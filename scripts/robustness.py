@@ -1,7 +1,7 @@
 """Cut every real mesh in ../shared/meshes by random planes; count the parts closed on disk.
 
 For each file: `load` (a refusal is counted with its reason), `check`; a mesh
-that is not watertight is given to `repair` (CAD float noise, duplicates,
+that is not watertight with consistent windings is given to `repair` (CAD float noise, duplicates,
 windings), and one that is still open is refused for cutting with the
 reason. Every watertight mesh is cut by `--planes` random planes through its
 bounding box; both parts are written as STL with `write_mesh` and read back,
@@ -63,16 +63,16 @@ def main(argv=None) -> int:
                 continue
             report = slicelab.check(mesh)
             state = "watertight"
-            if not report.watertight:
+            if not (report.watertight and report.winding_consistent):
                 fixed = slicelab.repair(mesh)
                 after = slicelab.check(fixed.mesh)
-                if after.watertight:
+                if after.watertight and after.winding_consistent:
                     totals["repaired"] += 1
                     mesh, state = fixed.mesh, "repaired (" + "; ".join(fixed.report.changes()) + ")"
                 else:
                     totals["open_input"] += 1
-                    print(f"{rel}: not cut: {after.n_open_edges} open and {after.n_nonmanifold_edges} "
-                          f"non-manifold edges remain after repair")
+                    print(f"{rel}: not cut: {after.n_open_edges} open, {after.n_nonmanifold_edges} non-manifold "
+                          f"and {after.n_misoriented_edges} misoriented edges remain after repair")
                     continue
             lo, hi = mesh.bounds
             closed = parts = noted = 0
