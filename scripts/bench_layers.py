@@ -1,20 +1,29 @@
-"""Per-layer cost and accuracy of the layer-raster toolpaths (issue 5).
+"""Per-layer cost and accuracy of the layer-raster toolpaths, and how the cost grows with a part's size.
 
-For a layer of the torus and of the pot, at pixel sizes 0.1, 0.05 and 0.02 mm: wall time of
+Layers: for a layer of the torus and of the pot, at pixel sizes 0.1, 0.05 and 0.02 mm, wall time of
 `slicelab.layer_paths` (raster, exact distance field, perimeters, gap fill, zigzag filling, order),
-its peak memory, and beside them the accuracy of the perimeters against shapely's exact offsets
-(`buffer(-d, join_style="round")`): Hausdorff distance and relative area error.
+its peak memory, the pixels held (the blocks along the boundary) against the pixels of the islands'
+boxes, and beside them the accuracy of the perimeters against shapely's exact offsets
+(`buffer(-d, join_style="round")`): Hausdorff distance and relative area error. Each
+configuration runs in a fresh process, so peak memory (ru_maxrss minus the resident size before
+the call) is its own.
 
-Each configuration runs in a fresh process, so peak memory (ru_maxrss minus the resident size
-before the call) is its own. The machine is shared: timings are noisy.
+Rings: a ring of constant 4 mm wall (`slicelab.samples.ring_prism`, cut at mid-height) with outer
+radius 10, 20, 40, 80 and 160 mm, at 0.05 mm pixels: the median time of `layer_paths` over
+`--repeat` runs, the pixels held, and each size's ratio to the previous one. Work that follows the
+boundary doubles when the radius doubles; work over the islands' boxes would quadruple. The
+exponent fitted to time ~ radius^k says which.
 
-    python scripts/bench_layers.py [--repeat 3]
+The machine may be shared: timings are medians, and still noisy.
+
+    python scripts/bench_layers.py [--repeat 3] [--table layers|rings|all]
 """
 from __future__ import annotations
 
 import argparse
 import json
 import resource
+import statistics
 import subprocess
 import sys
 import time
@@ -24,6 +33,8 @@ ROOT = Path(__file__).resolve().parents[1]
 LAYERS = [("torus", ROOT / "data" / "torus.stl", 5.0), ("pot", ROOT / "data" / "pot.stl", 60.0),
           ("torus_1m", ROOT / "data" / "large" / "torus_1m.stl", 5.0)]
 PIXELS = [0.1, 0.05, 0.02]
+RADII = [10.0, 20.0, 40.0, 80.0, 160.0]
+WALL = 4.0
 
 
 def _rss_kb() -> int:
@@ -54,36 +65,109 @@ def child(path: str, z: float, p: float, repeat: int) -> dict:
         ours = shapely.MultiPolygon([shapely.Polygon(q.exterior, q.holes) for q in per.rings[k]])
         hd.append(shapely.hausdorff_distance(ref.boundary, ours.boundary, densify=0.02))
         area.append(abs(ours.area - ref.area) / ref.area)
-    px = sum(f.grid.mask.size for f in per.fields)
-    return {"segments": len(s.segments), "pixels": px, "time_s": min(times), "peak_mb": peak / 1024,
+    px = sum(f.grid.pixels for f in per.fields)
+    box = sum(f.grid.shape[0] * f.grid.shape[1] for f in per.fields)
+    return {"segments": len(s.segments), "pixels": px, "box": box, "time_s": statistics.median(times),
+            "peak_mb": peak / 1024,
             "hausdorff_mm": max(hd), "area_err_pct": 100 * max(area), "paths": len(lp.sequence),
             "vertices": int(sum(len(q) for _, q, _ in lp.ordered()))}
 
 
-def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--child", nargs=3, metavar=("PATH", "Z", "P"), help=argparse.SUPPRESS)
-    args = ap.parse_args(argv)
-    if args.child:
-        print(json.dumps(child(args.child[0], float(args.child[1]), float(args.child[2]), args.repeat)))
-        return 0
-    print("layer_paths per layer (w=0.4 mm, 2 perimeters, 20% infill); shared 2-core machine, noisy timings")
-    print(f"{'layer':<10}{'segments':>9}{'pixel':>7}{'Mpx':>7}{'time s':>8}{'peak MB':>9}"
+def ring_section(radius: float, wall: float = WALL, step: float = 0.5):
+    """The mid-height section of a ring prism (outer radius, constant wall), edges about `step` mm."""
+    import numpy as np
+    import slicelab
+    from slicelab.samples import ring_prism
+    n = max(64, int(2 * np.pi * radius / step))
+    t = 2 * np.pi * np.arange(n) / n
+    unit = np.c_[np.cos(t), np.sin(t)] + (0.013, 0.021)
+    return slicelab.section(ring_prism(radius * unit, (radius - wall) * unit, 0.0, 1.0), (0, 0, 0.5), (0, 0, 1))
+
+
+def ring_table(repeat: int) -> None:
+    """Time and pixels held per layer for rings of growing radius, and the fitted exponent."""
+    import numpy as np
+    import slicelab
+    print(f"\nring of {WALL:g} mm wall, layer_paths at 0.05 mm pixels (median of {repeat} runs)")
+    print(f"{'radius mm':>10}{'time ms':>10}{'x prev':>8}{'px held':>11}{'x prev':>8}{'box px':>12}")
+    slicelab.layer_paths(ring_section(RADII[0]), pixel_size=0.05)  # warm imports
+    times, held = [], []
+
+    def ratio(xs):
+        return f"{xs[-1] / xs[-2]:>8.2f}" if len(xs) > 1 else f"{'':>8}"
+
+    for radius in RADII:
+        s = ring_section(radius)
+        runs = []
+        for _ in range(repeat):
+            t0 = time.perf_counter()
+            lp = slicelab.layer_paths(s, 0.4, 2, 0.2, pixel_size=0.05)
+            runs.append(time.perf_counter() - t0)
+        fields = lp.perimeters.fields
+        times.append(statistics.median(runs))
+        held.append(sum(f.grid.pixels for f in fields))
+        box = sum(f.grid.shape[0] * f.grid.shape[1] for f in fields)
+        print(f"{radius:>10g}{1000 * times[-1]:>10.1f}{ratio(times)}{held[-1]:>11d}{ratio(held)}{box:>12d}")
+    k_time = np.polyfit(np.log(RADII), np.log(times), 1)[0]
+    k_px = np.polyfit(np.log(RADII), np.log(held), 1)[0]
+    print(f"fitted exponent: time ~ radius^{k_time:.2f}, pixels held ~ radius^{k_px:.2f} "
+          "(1: follows the boundary, 2: the area)")
+
+
+def pot_time(repeat: int) -> None:
+    """The pot's layer at mid-height with the defaults (0.05 mm pixels): median time."""
+    import slicelab
+    path = ROOT / "data" / "pot.stl"
+    if not path.exists():
+        return
+    s = slicelab.section(slicelab.load(path), (0, 0, 60.0), (0, 0, 1))
+    slicelab.layer_paths(s, pixel_size=0.1)  # warm imports
+    runs = []
+    for _ in range(max(repeat, 3)):
+        t0 = time.perf_counter()
+        lp = slicelab.layer_paths(s, 0.4, 2, 0.2, pixel_size=0.05)
+        runs.append(time.perf_counter() - t0)
+    held = sum(f.grid.pixels for f in lp.perimeters.fields)
+    box = sum(f.grid.shape[0] * f.grid.shape[1] for f in lp.perimeters.fields)
+    print(f"\npot layer (z = 60 mm, 0.05 mm pixels): {1000 * statistics.median(runs):.0f} ms "
+          f"(median of {len(runs)}), {held} px held of {box} in the islands' boxes")
+
+
+def layer_table(repeat: int) -> int:
+    print("layer_paths per layer (w=0.4 mm, 2 perimeters, 20% infill); median times")
+    print(f"{'layer':<10}{'segments':>9}{'pixel':>7}{'Mpx held':>9}{'Mpx box':>8}{'time s':>8}{'peak MB':>9}"
           f"{'Hausdorff mm':>14}{'area err %':>12}{'paths':>7}")
     for name, path, z in LAYERS:
         if not path.exists():
             print(f"{name:<10} (missing {path.relative_to(ROOT)}: make data-large)")
             continue
         for p in PIXELS:
-            out = subprocess.run([sys.executable, __file__, "--repeat", str(args.repeat), "--child", str(path),
+            out = subprocess.run([sys.executable, __file__, "--repeat", str(repeat), "--child", str(path),
                                   str(z), str(p)], capture_output=True, text=True)
             if out.returncode:
                 print(out.stderr[-2000:])
                 return 1
             r = json.loads(out.stdout.strip().splitlines()[-1])
-            print(f"{name:<10}{r['segments']:>9}{p:>7}{r['pixels'] / 1e6:>7.2f}{r['time_s']:>8.3f}"
-                  f"{r['peak_mb']:>9.0f}{r['hausdorff_mm']:>14.4f}{r['area_err_pct']:>12.4f}{r['paths']:>7}")
+            print(f"{name:<10}{r['segments']:>9}{p:>7}{r['pixels'] / 1e6:>9.2f}{r['box'] / 1e6:>8.2f}"
+                  f"{r['time_s']:>8.3f}{r['peak_mb']:>9.0f}{r['hausdorff_mm']:>14.4f}{r['area_err_pct']:>12.4f}"
+                  f"{r['paths']:>7}")
+    return 0
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--table", choices=("layers", "rings", "all"), default="all")
+    ap.add_argument("--child", nargs=3, metavar=("PATH", "Z", "P"), help=argparse.SUPPRESS)
+    args = ap.parse_args(argv)
+    if args.child:
+        print(json.dumps(child(args.child[0], float(args.child[1]), float(args.child[2]), args.repeat)))
+        return 0
+    if args.table in ("layers", "all") and layer_table(args.repeat):
+        return 1
+    if args.table in ("rings", "all"):
+        pot_time(args.repeat)
+        ring_table(args.repeat)
     return 0
 
 

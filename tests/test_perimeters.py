@@ -162,3 +162,73 @@ def test_march_matches_skimage_find_contours():
         key = (lambda rings: sorted(tuple(np.round(p, 9)) for r in rings for p in r))
         assert key(ours) == key(ref)
         np.testing.assert_allclose(sorted(map(area, ours)), sorted(map(area, ref)), atol=1e-12)
+
+
+def _rings_of(polygons):
+    return sorted((r for q in polygons for r in (q.exterior, *q.holes)), key=lambda r: tuple(r[0]))
+
+
+@pytest.mark.parametrize("name, p", [(name, 0.1) for name in [*SHAPES, "walls", "ring"]] + [("walls", 0.05)])
+def test_block_seams_change_nothing(name, p):
+    # Perimeters, filling region, gap fill and thin walls come out the same, array for array,
+    # with small blocks as with blocks of 512 px that hold the island in one to four.
+    from slicelab.toolpath.raster import rasterize
+    from layer_shapes import circle
+    loops = {"walls": [rect(0, 0, 10, 0.3) + 0.012, rect(0, 1, 20, 2.1) + 0.017, rect(0, 3, 20, 4.9) + 0.013],
+             "ring": [circle(6, 90, (0.01, 0.02)), circle(4.6, 90, (0.01, 0.02))[::-1]]}.get(name) or SHAPES[name]
+    s = section_of(loops)
+    whole = perimeters(rasterize(s, p, block=512), 0.4, 2)
+    for block in (16, 32):
+        per = perimeters(rasterize(s, p, block=block), 0.4, 2)
+        for ours, ref in zip(per.rings + [per.fill], whole.rings + [whole.fill]):
+            a, b = _rings_of(ours), _rings_of(ref)
+            assert len(a) == len(b) and all(np.array_equal(x, y) for x, y in zip(a, b)), (name, block)
+        assert len(per.gap_fill) == len(whole.gap_fill)
+        for g in per.gap_fill:
+            assert any(np.array_equal(g, h) for h in whole.gap_fill)
+        assert per.thin_walls == whole.thin_walls
+        assert sum(f.refined for f in per.fields) == sum(f.refined for f in whole.fields)
+
+
+def test_march_blocks_matches_march_across_seams():
+    from slicelab.geometry.blocks import EMPTY, FULL, BlockGrid
+    from slicelab.geometry.contours import march, march_blocks
+    rng = np.random.default_rng(3)
+    for _ in range(100):
+        b = int(rng.integers(2, 6))
+        kinds = np.pad(rng.choice([0, EMPTY, FULL], tuple(rng.integers(2, 6, 2)), p=[0.6, 0.2, 0.2]), 1,
+                       constant_values=EMPTY)
+        # Uniform blocks of different kinds do not touch (as in a layer's mask).
+        grid = BlockGrid.from_status(b, int(rng.integers(-3, 3)), int(rng.integers(-3, 3)), kinds == 0, kinds == FULL)
+        grid, _ = grid.widen(np.zeros((len(grid), b, b), bool), False, True)
+        data = rng.normal(size=(len(grid), b, b)).astype(np.float32)
+        nr, nc = grid.table.shape
+        r0, c0 = grid.row0 * b - 1, grid.col0 * b - 1
+        whole = grid.assemble(data, np.float32(-5), np.float32(5), r0, c0, (nr * b + 2, nc * b + 2))
+        ref = sorted(tuple(q) for r in march(whole, 0.3) for q in np.round(r + [r0, c0], 9))
+        ours = sorted(tuple(q) for r in march_blocks(grid.mosaic(data, 1, np.float32(-5), np.float32(5)), 0.3, grid)
+                      for q in np.round(r, 9))
+        assert ours == ref
+
+
+def test_segment_index_reach_gives_the_same_answers():
+    rng = np.random.default_rng(7)
+    t = np.sort(rng.uniform(0, 2 * np.pi, 60))
+    ring = np.c_[10 * np.cos(t), 10 * np.sin(t)]
+    seg = np.stack([ring, np.roll(ring, -1, axis=0)], 1)
+    q = rng.uniform(-12, 12, (3000, 2))
+    d0 = SegmentIndex(seg, 0.2).nearest(q)[0]
+    for reach in (0.1, 0.8, 5.0):
+        d1 = SegmentIndex(seg, 0.2, join=True).nearest(q, reach=reach)[0]
+        np.testing.assert_allclose(d1, d0, rtol=0, atol=1e-12)
+
+
+def test_work_grows_with_the_boundary():
+    # Pixels the perimeters touch grow with a ring's radius, not with its area.
+    from layer_shapes import circle
+    touched = []
+    for radius in (10.0, 40.0):
+        n = int(2 * np.pi * radius / 0.5)
+        per = perimeters(section_of([circle(radius, n), circle(radius - 4, n)[::-1]]), 0.4, 2, pixel_size=P)
+        touched.append(sum(f.grid.pixels for f in per.fields))
+    assert touched[1] / touched[0] < 5

@@ -1,4 +1,4 @@
-"""Layer rasters: nonzero/even-odd fill, world-anchored grid, hole hierarchy (issue 5)."""
+"""Layer rasters: nonzero/even-odd fill, world-anchored grid, hole hierarchy, block masks."""
 import numpy as np
 import pytest
 from matplotlib.path import Path as MplPath
@@ -108,3 +108,56 @@ def test_bad_arguments():
     with pytest.raises(ValueError, match="pixel size"):
         rasterize(s, -1)
     assert rasterize(slicelab.section(box(), (0, 0, 5), (0, 0, 1)), 0.1).tiles == ()
+
+
+def _ring_edges(loops):
+    return np.concatenate([np.stack([lp, np.roll(lp, -1, axis=0)], 1) for lp in loops])
+
+
+@pytest.mark.parametrize("rule", ["nonzero", "evenodd"])
+@pytest.mark.parametrize("size", [8, 32])
+def test_block_masks_are_the_whole_window_masks(rule, size):
+    from slicelab.toolpath.raster import raster_blocks, winding_numbers
+    rng = np.random.default_rng(size)
+    p = 0.05
+    for band in (0.1, 0.7, 2.0):
+        loops = [star(5, 6, 2.5, rng.uniform(-1, 1, 2)), circle(1.5, 40, rng.uniform(-1, 1, 2))[::-1],
+                 rect(-4, -4, 1, 1) + rng.uniform(0, 1, 2)]  # overlapping shells: the rules differ
+        e = _ring_edges(loops)
+        m = raster_blocks(e, -180, -190, (370, 380), p, rule=rule, band=band, size=size)
+        w = winding_numbers(e, -180, -190, (370, 380), p)
+        ref = (w != 0) if rule == "nonzero" else (w % 2 == 1)
+        np.testing.assert_array_equal(m.mask, ref)
+        assert m.area == pytest.approx(np.count_nonzero(ref) * p * p)
+        rows, cols = rng.integers(-200, 200, (2, 500))
+        np.testing.assert_array_equal(m.at(rows, cols), GridMask(ref, -180, -190, p).window(-200, -200, (400, 400))[
+            rows + 200, cols + 200])
+        # Pixels are held only near the boundary: every held block is within the band of an edge.
+        assert m.pixels < m.mask.size
+
+
+def test_block_mask_algebra_and_opening_match_whole_masks():
+    from slicelab.toolpath.masks import open_mask
+    a = rasterize(section_of([star(5, 8, 3)]), 0.05, band=0.4).tiles[0]
+    b = rasterize(section_of([circle(5, 64, (2.0, 1.0))]), 0.05, band=0.4).tiles[0]
+    ga, gb = a.to_grid(), b.to_grid()
+    win = (-200, -200, (400, 400))
+    for ours, ref in ((a & b, ga & gb), (a - b, ga - gb), (a | b, ga | gb), (b - a, gb - ga)):
+        np.testing.assert_array_equal(ours.window(*win), ref.window(*win))
+        assert ours.area == pytest.approx(ref.area)
+        for r in (1, 4):
+            np.testing.assert_array_equal(open_mask(ours, r).window(*win), open_mask(ref, r).window(*win))
+
+
+def test_pixels_held_grow_with_the_boundary_not_the_area():
+    # A ring of constant 4 mm wall: its window grows with the square of its radius, the pixels
+    # held along its boundary only with the radius.
+    held, window = [], []
+    for radius in (20.0, 80.0):
+        n = int(2 * np.pi * radius / 0.5)
+        r = rasterize(section_of([circle(radius, n), circle(radius - 4, n)[::-1]]), 0.05)
+        held.append(r.pixels)
+        window.append(sum(t.mask.size for t in r.tiles))
+        assert r.area == pytest.approx(np.pi * (radius ** 2 - (radius - 4) ** 2), rel=2e-3)
+    assert window[1] / window[0] > 14
+    assert held[1] / held[0] < 4.5

@@ -9,12 +9,14 @@
 ``geometry.ragged``         groups of varying length, expanded without a Python loop
 ``geometry.contours``       marching squares, ring simplification, skeleton tracing
 ``geometry.spatial``        segments cut into pieces, exact nearest distances to segments
+``geometry.blocks``         square blocks of a pixel grid: held near a boundary, packed with halos
 ==========================  =====================================================
 """
 from __future__ import annotations
 
 from .chains import Chains, chain_segments, join_open_chains
-from .contours import crossed_cells, march, simplify_ring, skeleton_neighbours, trace_skeleton
+from .blocks import EMPTY, FULL, BlockGrid, blocks_near
+from .contours import crossed_cells, march, march_blocks, simplify_ring, skeleton_neighbours, trace_skeleton
 from .planes import NEXT_CORNER, Frame, crossing_edges, edge_points, plane_distances
 from .polygons import (
     Polygon,
@@ -24,8 +26,8 @@ from .polygons import (
     signed_area,
 )
 from .ragged import expand_ranges, group_starts, within_group
-from .spatial import SegmentIndex, split_segments
+from .spatial import SegmentIndex, join_collinear, split_segments
 from .topology import EdgeCounts, edge_counts, edge_table, exact_ids, manifold_summary, shells, weld
 from .triangles import edge_cross, triangle_areas, winding_normals
 
-__all__ = ["Frame", "NEXT_CORNER", "crossing_edges", "edge_points", "plane_distances", "exact_ids", "weld", "edge_table", "shells", "EdgeCounts", "edge_counts", "manifold_summary", "Chains", "chain_segments", "join_open_chains", "signed_area", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons", "edge_cross", "winding_normals", "triangle_areas", "group_starts", "within_group", "expand_ranges", "crossed_cells", "march", "simplify_ring", "skeleton_neighbours", "trace_skeleton", "split_segments", "SegmentIndex"]
+__all__ = ["Frame", "NEXT_CORNER", "crossing_edges", "edge_points", "plane_distances", "exact_ids", "weld", "edge_table", "shells", "EdgeCounts", "edge_counts", "manifold_summary", "Chains", "chain_segments", "join_open_chains", "signed_area", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons", "edge_cross", "winding_normals", "triangle_areas", "group_starts", "within_group", "expand_ranges", "crossed_cells", "march", "march_blocks", "simplify_ring", "skeleton_neighbours", "trace_skeleton", "split_segments", "join_collinear", "SegmentIndex", "EMPTY", "FULL", "BlockGrid", "blocks_near"]

@@ -14,9 +14,10 @@ from __future__ import annotations
 
 import numpy as np
 
+from .blocks import BlockGrid
 from .chains import chain_segments
 
-__all__ = ["crossed_cells", "march", "simplify_ring", "skeleton_neighbours", "trace_skeleton"]
+__all__ = ["crossed_cells", "march", "march_blocks", "simplify_ring", "skeleton_neighbours", "trace_skeleton"]
 
 _BOX = np.ones((2, 2), np.uint8)
 
@@ -65,7 +66,8 @@ def march(values: np.ndarray, level: float) -> list[np.ndarray]:
     every crossing edge gets an integer key and the segments are chained by
     `slicelab.geometry.chain_segments`, so no Python loop runs over pixels. It is
     the per-layer hot path of whole-part planning. Contours that reach the
-    array's border are not closed and are dropped.
+    array's border are not closed and are dropped. Each ring starts at its
+    lowest point (smallest row, then column).
 
     Parameters
     ----------
@@ -91,7 +93,7 @@ def march(values: np.ndarray, level: float) -> list[np.ndarray]:
     --------
     >>> v = np.zeros((5, 5)); v[1:4, 1:4] = 1; v[2, 2] = 2
     >>> [np.round(r, 3).tolist() for r in march(v, 0.5)]
-    [[[1.0, 0.5], [0.5, 1.0], [0.5, 2.0], [0.5, 3.0], [1.0, 3.5], [2.0, 3.5], [3.0, 3.5], [3.5, 3.0], [3.5, 2.0], [3.5, 1.0], [3.0, 0.5], [2.0, 0.5]]]
+    [[[0.5, 1.0], [0.5, 2.0], [0.5, 3.0], [1.0, 3.5], [2.0, 3.5], [3.0, 3.5], [3.5, 3.0], [3.5, 2.0], [3.5, 1.0], [3.0, 0.5], [2.0, 0.5], [1.0, 0.5]]]
     """
     import cv2
     v = np.asarray(values)
@@ -104,45 +106,154 @@ def march(values: np.ndarray, level: float) -> list[np.ndarray]:
     if found is None:
         return []
     c, r = found.reshape(-1, 2).T.astype(np.int64)  # (x, y) = (col, row), in row-major order
-    cu, cr, cl, cw = v[r, c] >= level, v[r, c + 1] >= level, v[r + 1, c] >= level, v[r + 1, c + 1] >= level
-    et, eb, el, er = cu != cr, cl != cw, cu != cl, cr != cw
+    corners = (v[r, c], v[r, c + 1], v[r + 1, c], v[r + 1, c + 1])
     # Edge keys: horizontal edge (i, j)-(i, j+1) is 2 (i w + j); vertical (i, j)-(i+1, j) is that + 1.
-    k_top, k_bottom = 2 * (r * w + c), 2 * ((r + 1) * w + c)
-    k_left, k_right = k_top + 1, 2 * (r * w + c + 1) + 1
+    return _rings(*_cell_segments(corners, level, r, c, lambda dr, dc, vert: 2 * ((r + dr) * w + c + dc) + vert))
+
+
+def march_blocks(image: np.ndarray, level: float, grid: BlockGrid) -> list[np.ndarray]:
+    """`march` over the blocks of a `BlockGrid`, chained across their seams: the contours of the whole grid.
+
+    Each block comes with a one-pixel halo (copies of its neighbours' pixels),
+    so every cell with a corner in it can be read from it. A cell is marched
+    by one block only: the first active one among the blocks of its corners
+    (upper left, upper right, lower left, lower right). A crossing is keyed
+    by its pixel edge in the block that holds the edge's first pixel, so the
+    segments of neighbouring blocks chain as if the grid were one array: the
+    same contours as `march` on the assembled grid, as long as every cell the
+    level crosses has a corner in an active block (true when no two uniform
+    blocks of different values touch).
+
+    Parameters
+    ----------
+    image : 2-D ndarray
+        The blocks with a halo of one pixel, side by side (`BlockGrid.mosaic`).
+    level : float
+    grid : BlockGrid
+
+    Returns
+    -------
+    list of (k, 2) ndarray
+        Fractional (row, col) on the world grid, implicitly closed.
+
+    See Also
+    --------
+    march : the same on one array.
+
+    Examples
+    --------
+    >>> v = np.zeros((6, 6)); v[1:5, 1:5] = 1; v[2, 2] = 2   # blocks of 3 x 3 pixels
+    >>> g = BlockGrid(3, 0, 0, np.arange(4).reshape(2, 2))
+    >>> image = g.mosaic(np.stack([v[i:i + 3, j:j + 3] for i in (0, 3) for j in (0, 3)]), 1, 0.0, 9.0)
+    >>> ours = march_blocks(image, 0.5, g)
+    >>> sorted(map(tuple, ours[0])) == sorted(map(tuple, march(v, 0.5)[0]))
+    True
+    """
+    import cv2
+    flat = np.asarray(image)
+    if flat.dtype not in (np.float32, np.float64):
+        flat = flat.astype(np.float64)
+    n, b = len(grid), grid.size
+    q = b + 2
+    if n == 0:
+        return []
+    m = flat.shape[1] // q  # blocks per row of the mosaic
+    found = cv2.findNonZero(crossed_cells(flat, level))
+    if found is None:
+        return []
+    x, y = found.reshape(-1, 2).T.astype(np.int64)
+    k = (y // q) * m + x // q
+    r, c = y % q - 1, x % q - 1
+    nb = grid.neighbours
+    act = nb < n  # (3, 3, n): which neighbours are active
+    # Cells of the halo's first row and column belong to this block only when the blocks before
+    # it among the cell's corners are not active.
+    up, left = r < 0, c < 0
+    mine = (r < b) & (c < b) & (k < n)
+    k = np.minimum(k, n - 1)
+    mine &= ~(up & act[0, 1 + np.maximum(c, 0) // b, k])
+    mine &= ~(left & act[1 + np.maximum(r, 0) // b, 0, k])
+    mine &= ~(up & left & act[0, 0, k])
+    mine &= ~(up & (c == b - 1) & act[0, 2, k])
+    k, r, c, x, y = k[mine], r[mine], c[mine], x[mine], y[mine]
+    corners = (flat[y, x], flat[y, x + 1], flat[y + 1, x], flat[y + 1, x + 1])
+    # Keys of the block that holds each edge's first pixel, so that both cells beside an edge give
+    # it the same key; an edge whose first pixel lies in a uniform block is keyed by its place on
+    # the whole grid, after all of those.
+    rows0, cols0 = grid.origins()
+    width = grid.table.shape[1] * b + 4
+
+    def keyed(dr, dc, vert):
+        rows, cols = r + dr, c + dc
+        owner = nb[1 + rows // b, 1 + cols // b, k]
+        key = (owner * (b * b) + (rows % b) * b + cols % b) * 2 + vert
+        far = owner >= n
+        if far.any():
+            gr = rows0[k[far]] + rows[far] - grid.row0 * b + 1
+            gc = cols0[k[far]] + cols[far] - grid.col0 * b + 1
+            key[far] = 2 * (n * b * b + gr * width + gc) + vert
+        return key
+
+    start, end, pr, pc = _cell_segments(corners, level, rows0[k] + r, cols0[k] + c, keyed)
+    return _rings(start, end, pr, pc)
+
+
+def _cell_segments(corners, level: float, r: np.ndarray, c: np.ndarray, key):
+    """The contour segments of crossed cells: start and end keys, and each start point (row, col).
+
+    Cell (r, c) has corners ul = (r, c), ur = (r, c + 1), ll = (r + 1, c), lr
+    = (r + 1, c + 1), with values `corners`; ``key(dr, dc, vertical)`` numbers,
+    for every cell, the pixel edge from (r + dr, c + dc) to its right (0) or
+    lower (1) neighbour.
+    """
+    vu, vr, vl, vw = (np.asarray(x, np.float64) for x in corners)
+    cu, cr, cl, cw = vu >= level, vr >= level, vl >= level, vw >= level
+    k_top, k_bottom = key(0, 0, 0), key(1, 0, 0)
+    k_left, k_right = key(0, 0, 1), key(0, 1, 1)
+    keys = np.stack([k_top, k_right, k_bottom, k_left])
+    et, eb, el, er = cu != cr, cl != cw, cu != cl, cr != cw
     saddle = et & eb & el & er
     plain = ~saddle
     # Walk the cell's border counter-clockwise (ul, ur, lr, ll in the (col, row) plane): the
     # segment runs from the edge where the walk leaves the high side to the edge where it comes
     # back, which puts the high side on the segment's left. No geometry, so ties cannot flip it.
     def pick(top_, right_, bottom_, left_):
-        return np.where(top_, k_top, np.where(right_, k_right, np.where(bottom_, k_bottom, k_left)))
+        return np.where(top_, 0, np.where(right_, 1, np.where(bottom_, 2, 3)))
 
-    start_p = pick(cu & ~cr, cr & ~cw, cw & ~cl, cl & ~cu)[plain]
-    end_p = pick(~cu & cr, ~cr & cw, ~cw & cl, ~cl & cu)[plain]
+    s_p = pick(cu & ~cr, cr & ~cw, cw & ~cl, cl & ~cu)[plain]
+    e_p = pick(~cu & cr, ~cr & cw, ~cw & cl, ~cl & cu)[plain]
     # Saddles join the high corners: around each low corner, from the edge arriving at it to the
     # edge leaving it (low ul: left -> top, low lr: right -> bottom; low ur: top -> right,
     # low ll: bottom -> left).
     low_ul = ~cu[saddle]
-    kt, kr, kb, kl = k_top[saddle], k_right[saddle], k_bottom[saddle], k_left[saddle]
-    start = np.concatenate([start_p, np.where(low_ul, kl, kt), np.where(low_ul, kr, kb)])
-    end = np.concatenate([end_p, np.where(low_ul, kt, kr), np.where(low_ul, kb, kl)])
+    cells = np.concatenate([np.flatnonzero(plain), np.flatnonzero(saddle), np.flatnonzero(saddle)])
+    s_edge = np.concatenate([s_p, np.where(low_ul, 3, 0), np.where(low_ul, 1, 2)])
+    e_edge = np.concatenate([e_p, np.where(low_ul, 0, 1), np.where(low_ul, 2, 3)])
+    start, end = keys[s_edge, cells], keys[e_edge, cells]
+    # Each start point is interpolated along its pixel edge, from its first pixel to its second
+    # (left to right, top to bottom), the same way in both cells that share the edge.
+    first = np.stack([vu, vr, vl, vu])[s_edge, cells]
+    second = np.stack([vr, vw, vw, vl])[s_edge, cells]
+    t = (level - first) / (second - first)
+    vert = (s_edge == 1) | (s_edge == 3)
+    pr = r[cells] + (s_edge == 2) + np.where(vert, t, 0.0)
+    pc = c[cells] + (s_edge == 1) + np.where(vert, 0.0, t)
+    return start, end, pr, pc
 
-    def point(key):
-        vert = key & 1
-        base = key >> 1
-        i, j = base // w, base % w
-        v0, v1 = v[i, j].astype(np.float64), v[i + vert, j + (1 - vert)].astype(np.float64)
-        t = (level - v0) / (v1 - v0)
-        return i + vert * t, j + (1 - vert) * t
 
-    pr0, pc0 = point(start)
+def _rings(start, end, pr, pc) -> list[np.ndarray]:
+    """The closed chains of contour segments, as rings of their start points, each from its
+    lowest point (smallest row, then column): the same rings whatever the keys."""
     chains = chain_segments(start, end)
     rings = []
     for k in range(len(chains)):  # over contours
         if not chains.closed[k]:
             continue
         idx = chains.order[chains.bounds[k]:chains.bounds[k + 1]]
-        rings.append(np.stack([pr0[idx], pc0[idx]], 1))
+        r, c = pr[idx], pc[idx]
+        low = np.flatnonzero(r == r.min())
+        first = low[np.argmin(c[low])]
+        rings.append(np.roll(np.stack([r, c], 1), -first, axis=0))
     return rings
 
 
@@ -193,6 +304,15 @@ def simplify_ring(ring: np.ndarray, tolerance: float) -> np.ndarray:
     return ring[mask]
 
 
+def _pixels(skel) -> np.ndarray:
+    """(row, col) of a skeleton's pixels in row-major order, from an image or a list of pixels."""
+    skel = np.asarray(skel)
+    if skel.dtype == bool:
+        return np.argwhere(skel).astype(np.int64)
+    pts = np.unique(skel.reshape(-1, 2).astype(np.int64), axis=0)  # sorted row-major
+    return pts
+
+
 def skeleton_neighbours(skel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Skeleton pixels and their neighbours, with mixed adjacency.
 
@@ -201,8 +321,8 @@ def skeleton_neighbours(skel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 
     Parameters
     ----------
-    skel : (h, w) bool ndarray
-        A one-pixel-wide skeleton.
+    skel : (h, w) bool ndarray, or (n, 2) int ndarray
+        A one-pixel-wide skeleton, as an image or as its pixels (row, col).
 
     Returns
     -------
@@ -222,21 +342,28 @@ def skeleton_neighbours(skel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     >>> pts.tolist(), sorted(int(j) for j in nbr[1] if j >= 0)
     ([[1, 0], [1, 1], [2, 2]], [0, 2])
     """
-    pts = np.argwhere(skel)
-    h, w = skel.shape
-    idx = np.full((h + 2, w + 2), -1, np.int64)
-    idx[pts[:, 0] + 1, pts[:, 1] + 1] = np.arange(len(pts))
-    on = idx >= 0
+    pts = _pixels(skel)
     nbr = np.full((len(pts), 8), -1, np.int64)
-    r, c = pts[:, 0] + 1, pts[:, 1] + 1
+    if len(pts) == 0:
+        return pts, nbr
+    # Pixel keys in row-major order are sorted: a neighbour is found by binary search.
+    r, c = pts[:, 0] - pts[:, 0].min() + 1, pts[:, 1] - pts[:, 1].min() + 1
+    w = int(c.max()) + 2
+    key = r * w + c
+
+    def find(dr, dc):
+        q = key + dr * w + dc
+        i = np.minimum(np.searchsorted(key, q), len(key) - 1)
+        return np.where(key[i] == q, i, -1)
+
     k = 0
     for dr in (-1, 0, 1):
         for dc in (-1, 0, 1):
             if dr == 0 and dc == 0:
                 continue
-            n = idx[r + dr, c + dc]
+            n = find(dr, dc)
             if dr and dc:
-                n = np.where(on[r + dr, c] | on[r, c + dc], -1, n)
+                n = np.where((find(dr, 0) >= 0) | (find(0, dc) >= 0), -1, n)
             nbr[:, k] = n
             k += 1
     return pts, nbr
@@ -251,9 +378,9 @@ def trace_skeleton(skel: np.ndarray) -> list[np.ndarray]:
 
     Parameters
     ----------
-    skel : (h, w) bool ndarray
+    skel : (h, w) bool ndarray, or (n, 2) int ndarray
         A one-pixel-wide skeleton, e.g. from ``skimage.morphology.skeletonize``
-        (Zhang and Suen's thinning).
+        (Zhang and Suen's thinning), or its pixels (row, col).
 
     Returns
     -------

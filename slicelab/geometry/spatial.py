@@ -8,9 +8,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .ragged import within_group
+from .ragged import expand_ranges, within_group
 
-__all__ = ["split_segments", "SegmentIndex"]
+__all__ = ["split_segments", "join_collinear", "SegmentIndex"]
 
 
 def split_segments(segments: np.ndarray, piece: float) -> tuple[np.ndarray, np.ndarray]:
@@ -55,6 +55,33 @@ def split_segments(segments: np.ndarray, piece: float) -> tuple[np.ndarray, np.n
     return np.stack([a, b], axis=1), idx
 
 
+def join_collinear(segments: np.ndarray) -> np.ndarray:
+    """Join runs of consecutive segments that continue each other in a straight line.
+
+    Segment i + 1 continues segment i when it starts exactly where i ends and
+    points the same way (the pieces of one segment, `split_segments`): the
+    run becomes one segment, the same set of points.
+
+    Examples
+    --------
+    >>> pieces, _ = split_segments(np.array([[[0, 0], [3, 0]], [[3, 0], [3, 1]]], float), 1.0)
+    >>> join_collinear(pieces).tolist()
+    [[[0.0, 0.0], [3.0, 0.0]], [[3.0, 0.0], [3.0, 1.0]]]
+    """
+    seg = np.asarray(segments, np.float64).reshape(-1, 2, 2)
+    if len(seg) < 2:
+        return seg
+    d = seg[:, 1] - seg[:, 0]
+    a, b = d[:-1], d[1:]
+    cross = a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0]
+    dot = np.einsum("ij,ij->i", a, b)
+    same = np.all(seg[:-1, 1] == seg[1:, 0], axis=1) & (dot > 0) & \
+        (np.abs(cross) <= 1e-9 * np.hypot(a[:, 0], a[:, 1]) * np.hypot(b[:, 0], b[:, 1]))
+    first = np.flatnonzero(np.concatenate([[True], ~same]))
+    last = np.concatenate([first[1:], [len(seg)]]) - 1
+    return np.stack([seg[first, 0], seg[last, 1]], axis=1)
+
+
 class SegmentIndex:
     """Exact nearest distances from points to a set of segments.
 
@@ -69,6 +96,10 @@ class SegmentIndex:
     segments : (m, 2, 2) ndarray
     piece : float
         Longest piece: shorter pieces settle more points in the first round.
+    join : bool, default False
+        Join runs of collinear segments first (`join_collinear`): fewer, longer
+        segments make `nearest` with a `reach` faster. `segments` and the
+        indices `nearest` returns are then the joined segments.
 
     Attributes
     ----------
@@ -82,9 +113,11 @@ class SegmentIndex:
     ([2.0, 2.828427], [0, 1], [0.3, 1.0])
     """
 
-    def __init__(self, segments: np.ndarray, piece: float):
+    def __init__(self, segments: np.ndarray, piece: float, *, join: bool = False):
         from scipy.spatial import cKDTree
         seg = np.asarray(segments, np.float64).reshape(-1, 2, 2)
+        if join:
+            seg = join_collinear(seg)
         self.segments = seg
         d = seg[:, 1] - seg[:, 0]
         length = np.hypot(d[:, 0], d[:, 1])
@@ -96,16 +129,70 @@ class SegmentIndex:
         self.inv_len2 = 1.0 / np.maximum(np.einsum("ij,ij->i", self.pd, self.pd), 1e-300)
         self.half = float(0.5 * (length / k).max()) if len(seg) else 0.0
         self.tree = cKDTree(0.5 * (self.pa + self.pb)) if len(seg) else None
+        self.lo, self.hi = seg.min(axis=1), seg.max(axis=1)
+
+    def _near(self, q: np.ndarray, reach: float):
+        """Exact nearest segments of points within `reach` of one, from square buckets of side
+        `reach`: a segment is a candidate of every bucket its box, widened by `reach`, meets. A
+        point farther than `reach` from every candidate gets inf. None if candidates would be
+        too many (short segments): the k-d tree does better."""
+        cell = float(reach)
+        b0 = np.floor((self.lo - cell) / cell).astype(np.int64)
+        b1 = np.floor((self.hi + cell) / cell).astype(np.int64)
+        qb = np.floor(q / cell).astype(np.int64)
+        origin = np.minimum(b0.min(axis=0), qb.min(axis=0))
+        width = int(max(b1[:, 0].max(), qb[:, 0].max()) - origin[0]) + 1
+        per_seg = (b1[:, 0] - b0[:, 0] + 1) * (b1[:, 1] - b0[:, 1] + 1)
+        if per_seg.sum() > 64 * len(q) + 4096:
+            return None
+        s_row, rows = expand_ranges(b0[:, 1], b1[:, 1] - b0[:, 1] + 1)
+        j, cols = expand_ranges(b0[s_row, 0], (b1[:, 0] - b0[:, 0] + 1)[s_row])
+        owner = s_row[j]
+        key = (rows[j] - origin[1]) * width + (cols - origin[0])
+        order = np.argsort(key, kind="stable")
+        key, owner = key[order], owner[order]
+        qk = (qb[:, 1] - origin[1]) * width + (qb[:, 0] - origin[0])
+        start = np.searchsorted(key, qk)
+        count = np.searchsorted(key, qk, side="right") - start
+        if count.sum() > 64 * len(q) + 4096:
+            return None
+        pt, pair = expand_ranges(start, count)
+        seg = owner[pair]
+        ax, ay = self.segments[seg, 0, 0], self.segments[seg, 0, 1]
+        dx, dy = self.segments[seg, 1, 0] - ax, self.segments[seg, 1, 1] - ay
+        wx, wy = q[pt, 0] - ax, q[pt, 1] - ay
+        t = np.clip((wx * dx + wy * dy) / np.maximum(dx * dx + dy * dy, 1e-300), 0.0, 1.0)
+        ex, ey = wx - t * dx, wy - t * dy
+        e2 = ex * ex + ey * ey
+        dist = np.full(len(q), np.inf)
+        best = np.zeros(len(q), np.int64)
+        tt = np.zeros(len(q))
+        some = count > 0
+        if some.any():
+            # Pairs come grouped by point: each group's smallest, and the first pair reaching it.
+            low = np.minimum.reduceat(e2, (np.cumsum(count) - count)[some])
+            hit = np.flatnonzero(e2 == np.repeat(low, count[some]))
+            first = hit[np.concatenate([[True], pt[hit][1:] != pt[hit][:-1]])]
+            dist[pt[first]] = np.sqrt(e2[first])
+            best[pt[first]], tt[pt[first]] = seg[first], t[first]
+        far = dist > reach
+        dist[far] = np.inf
+        return dist, best, tt
 
     def __len__(self) -> int:
         return len(self.segments)
 
-    def nearest(self, points) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    def nearest(self, points, reach: float | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Distance to the nearest segment, its index, and the parameter (0..1) of the nearest point.
 
         Parameters
         ----------
         points : (n, 2) array_like
+        reach : float, optional
+            Points within `reach` of a segment are answered from the segments
+            near them (buckets of that size), the others by the k-d tree: faster
+            when most points are that near and segments are long. The answers
+            are the same.
 
         Returns
         -------
@@ -122,6 +209,15 @@ class SegmentIndex:
         if n == 0 or len(q) == 0:
             return dist, best, np.zeros(len(q))
         todo = np.arange(len(q))
+        near = self._near(q, reach) if reach is not None and reach > 0 else None
+        if near is not None:
+            dist, known, t0 = near
+            found = np.isfinite(dist)
+            if found.all():
+                return dist, known, t0
+            todo = np.flatnonzero(~found)
+        tree = np.zeros(len(q), bool)
+        tree[todo] = True
         k = min(8, n)
         while len(todo):  # a few rounds: k doubles for the points not yet settled
             dm, im = self.tree.query(q[todo], k=k)
@@ -141,6 +237,8 @@ class SegmentIndex:
             todo = todo[~done]
             k = min(2 * k, n)
         seg = self.piece_segment[best]
+        if near is not None:
+            seg = np.where(tree, seg, known)
         s = self.segments[seg]
         d = s[:, 1] - s[:, 0]
         t = np.clip(np.einsum("ij,ij->i", q - s[:, 0], d) / np.maximum(np.einsum("ij,ij->i", d, d), 1e-300),

@@ -10,43 +10,78 @@ offset edges beside it are extended to meet, and the meeting point is
 checked to lie exactly at the level's distance from the boundary before it
 replaces the cut corner.
 
+The field lives on the blocks of the layer's mask (`slicelab.toolpath.masks.BlockMask`):
+only the blocks near the boundary hold pixels, and OpenCV runs once over
+their stack, each block with a halo copied from its neighbours. Blocks deep
+inside take one value, the depth below which the field is computed.
+
 See Also
 --------
 slicelab.toolpath.perimeters : the perimeters drawn along these level sets.
 slicelab.geometry.contours : marching squares and ring simplification.
 slicelab.geometry.spatial : `SegmentIndex`, the exact distances to the boundary.
+slicelab.geometry.blocks : the blocks and their halos.
 """
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 
 import numpy as np
 
-from ..geometry.contours import crossed_cells, march, simplify_ring
+from ..geometry.contours import crossed_cells, march_blocks, simplify_ring
 from ..geometry.polygons import signed_area
 from ..geometry.ragged import expand_ranges
 from ..geometry.spatial import SegmentIndex
-from .raster import GridMask
+from .masks import BlockMask
 
 __all__ = ["DistanceField", "signed_mask_distance", "distance_field", "level_rings"]
 
 
 @dataclass(frozen=True, eq=False)
 class DistanceField:
-    """Signed distance to a tile's boundary (mm; positive in material), on the tile's pixels.
+    """Signed distance to a tile's boundary (mm; positive in material), on the pixels of its blocks.
 
     Attributes
     ----------
-    values : (h, w) float32 ndarray
-    grid : GridMask
-        The tile (material mask and its window on the world grid).
+    blocks : (n, B, B) float32 ndarray
+        The field on the active blocks of ``grid.blocks``. Pixels outside the
+        material hold -p/2; the field stops at `deep`.
+    grid : BlockMask
+        The tile (material and its blocks).
+    deep : float
+        The field's value in full blocks, and its largest value: distances
+        beyond it are not computed.
     refined : int
         How many pixels hold the exact distance to the boundary segments.
     """
 
-    values: np.ndarray
-    grid: GridMask
+    blocks: np.ndarray
+    grid: BlockMask
+    deep: float
     refined: int = 0
+
+    @property
+    def outside(self) -> float:
+        """The value of pixels outside the material (-p/2)."""
+        return -0.5 * self.grid.pixel_size
+
+    @cached_property
+    def values(self) -> np.ndarray:
+        """The field on the tile's whole window, (h, w) float32 (made on first use, for plots)."""
+        g = self.grid
+        return g.blocks.assemble(self.blocks, np.float32(self.outside), np.float32(self.deep), g.row0, g.col0,
+                                 g.shape)
+
+    @cached_property
+    def halo1(self) -> np.ndarray:
+        """The field's blocks with a one-pixel halo (the marching squares' cells), made once."""
+        return self.mosaic(1)
+
+    def mosaic(self, halo: int, values: np.ndarray | None = None) -> np.ndarray:
+        """The field (or `values` on the same blocks) with a halo, as one image (`BlockGrid.mosaic`)."""
+        v = self.blocks if values is None else values
+        return self.grid.blocks.mosaic(v, halo, v.dtype.type(self.outside), v.dtype.type(self.deep))
 
 
 def signed_mask_distance(mask: np.ndarray, pixel_size: float, *, outside: bool = True,
@@ -84,13 +119,36 @@ def signed_mask_distance(mask: np.ndarray, pixel_size: float, *, outside: bool =
 _BOX = np.ones((2, 2), np.uint8)
 
 
-def _crossing_corners(values: np.ndarray, level: float) -> np.ndarray:
-    """0/1 mask of the pixels that are a corner of a cell the level crosses."""
+def _chamfer_blocks(tile: BlockMask, halo: int) -> np.ndarray:
+    """OpenCV's chamfer distance (pixels) of the tile's active blocks, right up to `halo` pixels.
+
+    Each block is taken with `halo` pixels of its neighbours: a distance up to
+    the halo is then the distance on the whole grid. A small window goes
+    through OpenCV whole, when that is fewer pixels than the blocks and their halos.
+    """
     import cv2
-    return cv2.dilate(crossed_cells(values, level), _BOX, anchor=(1, 1)) & np.uint8(1)
+    g, b = tile.blocks, tile.blocks.size
+    n = len(g)
+    h, w = tile.shape
+    if h * w <= n * (b + 2 * halo) ** 2:
+        nr, nc = g.table.shape
+        r0, c0 = g.row0 * b, g.col0 * b
+        whole = tile.window(r0, c0, (nr * b, nc * b)).view(np.uint8)
+        d = cv2.distanceTransform(whole, cv2.DIST_L2, cv2.DIST_MASK_5)
+        d = d.reshape(nr, b, nc, b).transpose(0, 2, 1, 3)
+        return d[g.rows - g.row0, g.cols - g.col0]
+    image = g.mosaic(tile.bits.view(np.uint8), halo, np.uint8(0), np.uint8(1))
+    return g.cores(cv2.distanceTransform(image, cv2.DIST_L2, cv2.DIST_MASK_5), halo)
 
 
-def distance_field(tile: GridMask, index: SegmentIndex | None, levels) -> DistanceField:
+def _crossing_corners(field: DistanceField, level: float) -> np.ndarray:
+    """The block pixels that are a corner of a cell the level crosses (bool)."""
+    import cv2
+    corners = cv2.dilate(crossed_cells(field.halo1, level), _BOX, anchor=(1, 1))
+    return field.grid.blocks.cores(corners, 1).view(bool)
+
+
+def distance_field(tile: BlockMask, index: SegmentIndex | None, levels, *, depth: float | None = None) -> DistanceField:
     """The distance field of a tile, exact wherever the contours of `levels` need it.
 
     OpenCV's chamfer distance (`signed_mask_distance`, ``precise=False``) errs
@@ -103,11 +161,15 @@ def distance_field(tile: GridMask, index: SegmentIndex | None, levels) -> Distan
 
     Parameters
     ----------
-    tile : GridMask
+    tile : BlockMask
+        Its blocks must hold every pixel within `depth` (plus a pixel) of the boundary.
     index : SegmentIndex or None
         The tile's boundary segments; None keeps the pixel-exact field.
     levels : sequence of float
         Distances (mm) whose level sets will be drawn.
+    depth : float, optional
+        The field is computed up to this distance (mm) and a pixel or two
+        beyond (`DistanceField.deep`); default the deepest level.
 
     Returns
     -------
@@ -131,48 +193,58 @@ def distance_field(tile: GridMask, index: SegmentIndex | None, levels) -> Distan
     (0.3, True)
     """
     p = tile.pixel_size
+    levels = [float(v) for v in levels]
+    depth = max(levels, default=0.0) if depth is None else float(depth)
+    halo = int(np.ceil(depth / p)) + 2
+    deep = (halo - 0.5) * p
     # Only levels inside the material are ever drawn: the outside needs no distances.
-    values = signed_mask_distance(tile.mask, p, outside=False, precise=False)
+    values = _chamfer_blocks(tile, halo)
+    values -= 0.5
+    values *= p
+    np.minimum(values, np.float32(deep), out=values)
     refined = 0
-    if index is None or not len(index) or not len(levels):
-        return DistanceField(values, tile, refined)
-    import cv2
-    inside = tile.mask.view(np.uint8)
-    need = None
+    field = DistanceField(values, tile, deep, 0)
+    if index is None or not len(index) or not levels or not len(values):
+        return field
+    inside = tile.bits
+    need = np.zeros(values.shape, bool)
     for level in levels:  # over levels, few
-        corners = _crossing_corners(values, level)
-        need = corners if need is None else cv2.bitwise_or(need, corners, dst=need)
-    need = cv2.bitwise_and(need, inside)
-    done = np.zeros(tile.shape, bool)
-    h, w = tile.shape
+        need |= _crossing_corners(field, level)
+    need &= inside
+    done = np.zeros(values.shape, bool)
+    reach = max(levels) + 4 * p  # the pixels refined lie about this near the boundary
+    g = tile.blocks
+    rows0, cols0 = g.origins()
     while True:  # rounds: the first refines nearly everything, the others a few pixels
-        found = cv2.findNonZero(need)  # (x, y) = (col, row)
-        if found is None:
+        k, r, c = np.nonzero(need)
+        if len(k) == 0:
             break
-        cols, rows = found.reshape(-1, 2).T.astype(np.int64)
-        exact, _, _ = index.nearest(tile.xy(rows, cols))
-        approx = values[rows, cols]
+        rows, cols = rows0[k] + r, cols0[k] + c
+        exact, _, _ = index.nearest(np.stack([cols * p, rows * p], 1), reach=reach)
+        approx = values[k, r, c]
         # Trust the exact distance only where it agrees with the raster (a segment the rule
         # buried, or a pixel the rule and the geometry disagree on, stays pixel-exact).
         ok = np.abs(exact - approx) <= 1.5 * p
-        moved = np.zeros(len(rows), bool)
+        moved = np.zeros(len(k), bool)
         for level in levels:  # over levels
             moved |= (exact >= level) != (approx >= level)
         moved &= ok
-        values[rows[ok], cols[ok]] = exact[ok]
-        done[rows, cols] = True
+        values[k[ok], r[ok], c[ok]] = exact[ok]
+        done[k, r, c] = True
         refined += int(np.count_nonzero(ok))
         if not moved.any():
             break
         # The four cells around a pixel that changed side: their corners, the 3 x 3 block.
-        need = np.zeros(tile.shape, np.uint8)
+        need = np.zeros(values.shape, bool)
         rm, cm = rows[moved], cols[moved]
         for dr in (-1, 0, 1):
             for dc in (-1, 0, 1):
-                need[np.clip(rm + dr, 0, h - 1), np.clip(cm + dc, 0, w - 1)] = 1
+                kk, rr, cc = g.locate(rm + dr, cm + dc)
+                on = kk >= 0
+                need[kk[on], rr[on], cc[on]] = True
         need &= inside
-        need[done] = 0
-    return DistanceField(values, tile, refined)
+        need &= ~done
+    return DistanceField(values, tile, deep, refined)
 
 
 def _snap_corners(ring: np.ndarray, level: float, index: SegmentIndex, p: float,
@@ -185,7 +257,7 @@ def _snap_corners(ring: np.ndarray, level: float, index: SegmentIndex, p: float,
     if len(long) < 2:
         return ring
     mid = ring[long] + 0.5 * e[long]
-    dist, seg, _ = index.nearest(mid)
+    dist, seg, _ = index.nearest(mid, reach=level + 2 * p)
     s = index.segments[seg]
     u = s[:, 1] - s[:, 0]
     u /= np.hypot(u[:, 0], u[:, 1])[:, None]
@@ -219,7 +291,7 @@ def _snap_corners(ring: np.ndarray, level: float, index: SegmentIndex, p: float,
     half = 0.5 * (np.pi - np.arccos(np.clip(np.einsum("ij,ij->i", d1[c], d2[c]), -1, 1)))
     reach = np.minimum(2 * p / np.maximum(np.sin(half), 1e-3), 12 * p)
     near = (np.hypot(*(x - ring[first]).T) <= reach) & (np.hypot(*(x - ring[last]).T) <= reach)
-    dx, _, _ = index.nearest(x)
+    dx, _, _ = index.nearest(x, reach=level + 2 * p)
     good = near & (np.abs(dx - level) <= 1e-3 * p)
     if not good.any():
         return ring
@@ -245,10 +317,10 @@ def level_rings(field: DistanceField, level: float, *, tolerance: float, index: 
         Simplification tolerance (mm), Douglas-Peucker (`simplify_ring`).
     index : SegmentIndex, optional
         Boundary segments; given, sharp corners of the exact offset are restored.
-    values : ndarray, optional
-        Another field on the same pixels to contour instead (e.g. a field
-        already combined with a mask); corners are snapped where it agrees
-        with the exact offset at `level`.
+    values : (n, B, B) ndarray, optional
+        Another field on the same blocks to contour at `level` instead (e.g.
+        the field lowered below the level where a mask excludes it); its
+        empty and full blocks are the field's.
     min_area : float, optional
         Rings enclosing less (mm^2) are dropped; default 4 pixels.
 
@@ -260,7 +332,7 @@ def level_rings(field: DistanceField, level: float, *, tolerance: float, index: 
     See Also
     --------
     distance_field : the field contoured.
-    slicelab.geometry.march, slicelab.geometry.simplify_ring : the contours and their simplification.
+    slicelab.geometry.march_blocks, slicelab.geometry.simplify_ring : the contours and their simplification.
 
     Examples
     --------
@@ -272,16 +344,18 @@ def level_rings(field: DistanceField, level: float, *, tolerance: float, index: 
     >>> np.round(rings[0], 9).tolist()
     [[0.5, 0.5], [2.5, 0.5], [2.5, 1.5], [0.5, 1.5]]
     """
+    g = field.grid.blocks
     p = field.grid.pixel_size
-    v = field.values if values is None else values
-    threshold = level if values is None else 0.0
     min_area = 4 * p * p if min_area is None else min_area
+    if not len(g):
+        return []
+    stack = field.halo1 if values is None else field.mosaic(1, values)
     rings = []
-    for c in march(v, threshold):
+    for c in march_blocks(stack, level, g):
         if len(c) < 3:
             continue
         c = simplify_ring(c, tolerance / p)
-        xy = field.grid.xy(c[:, 0], c[:, 1])
+        xy = np.stack([c[:, 1] * p, c[:, 0] * p], 1)
         if len(xy) < 3 or abs(signed_area(xy)) < min_area:
             continue
         if index is not None and len(index):

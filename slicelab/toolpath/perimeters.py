@@ -7,8 +7,14 @@ exact wherever those contours pass (`slicelab.toolpath.distance`), so the
 perimeters lie on the true offsets, sharp corners included.
 
 Every level gets its own hierarchy (erosion splits islands and merges
-holes). Material that no perimeter covers and that is wide enough to print
-(thin walls, gaps between perimeters) is filled along its medial axis.
+holes). The filling's region is one more level set, where the region opened
+by a disc of w/2 keeps it (slivers too thin to fill are left out). Material
+that no perimeter covers and that is wide enough to print (thin walls, gaps
+between perimeters) is filled along its medial axis (`slicelab.toolpath.gapfill`).
+
+All of it reads the distance field no deeper than `perimeter_depth`, so only
+the blocks of the layer within that distance of the boundary hold pixels:
+the work follows the boundary, and pixels deep inside are never touched.
 
 See Also
 --------
@@ -18,16 +24,20 @@ slicelab.toolpath.paths : the perimeters, gap fill and filling in print order.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from types import SimpleNamespace
 
 import numpy as np
 
-from ..geometry.contours import trace_skeleton
+from ..geometry.contours import march, march_blocks, simplify_ring
 from ..geometry.polygons import Polygon, build_polygons, loop_hierarchy, signed_area
 from ..geometry.spatial import SegmentIndex
 from .distance import distance_field, level_rings
-from .raster import GridMask, LayerRaster, rasterize
+from .gapfill import disc, medial_fill, medial_fill_blocks, uncovered_blocks
+from .masks import BlockMask, GridMask
+from .raster import BAND, LayerRaster, rasterize
 
-__all__ = ["level_polygons", "Perimeters", "layer_perimeters", "medial_fill", "mask_rings"]
+__all__ = ["level_polygons", "Perimeters", "layer_perimeters", "medial_fill", "mask_rings", "perimeter_depth",
+           "split_by_mask"]
 
 
 def level_polygons(rings: list[np.ndarray]) -> list[Polygon]:
@@ -88,60 +98,6 @@ class Perimeters:
     fields: list = field(default_factory=list)
 
 
-def _disc(radius_px: float) -> np.ndarray:
-    import cv2
-    r = max(1, int(np.ceil(radius_px)))
-    return cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
-
-
-def _opened(values: np.ndarray, level: float, radius: float, p: float) -> np.ndarray:
-    """The region {values >= level} opened by a disc of `radius` (a bool mask).
-
-    Parts of the region thinner than 2 radius (slivers where fill lines would run nearly
-    parallel and cover nothing) are removed; elsewhere its edge is the exact level set,
-    since the dilated core reaches 1.5 px past it.
-    """
-    import cv2
-    core = values >= level + radius
-    if not core.any():
-        return np.zeros(values.shape, bool)
-    region = cv2.dilate(core.view(np.uint8), _disc(radius / p + 1.5)).view(bool)
-    region &= values >= level
-    return region
-
-
-def _gap_fill(tile: GridMask, values: np.ndarray, fill_mask: np.ndarray, levels, w: float, min_width: float):
-    """Medial-axis polylines (mm) and widths over material that neither the perimeters nor the
-    filling region reach (thin walls, gaps between perimeters, pinches the filling cannot enter)."""
-    import cv2
-    p = tile.pixel_size
-    n = len(levels)
-    if n == 0:
-        return [], []
-    # Within the perimeters' zone F < n w, a pixel is within w/2 of level j = floor(F / w):
-    # covered from above if F >= level j, from below only if level j exists within w/2, i.e.
-    # if the largest F within w/2 reaches it. One grey dilation answers for every level.
-    inside = tile.mask.view(np.uint8)
-    fmax = cv2.dilate(values.astype(np.float32, copy=False), _disc(0.5 * w / p + 1))  # +1 px: rounding
-    # The zone is a band along the boundary, a small part of the tile: its pixels are taken out
-    # and judged one by one. Pixels outside sit at -p/2, below it.
-    zone = cv2.inRange(values, 0.0, float(np.nextafter(np.float32(n * w), np.float32(0))))
-    found = cv2.findNonZero(cv2.bitwise_and(zone, inside))
-    # Beyond the perimeters only the filling covers: where its region was too thin to keep (a
-    # wall a little wider than the perimeters), the middle is left to gap fill too.
-    uncovered = (values >= n * w) & tile.mask
-    if found is not None:
-        cols, rows = found.reshape(-1, 2).T
-        v = values[rows, cols]
-        need = (np.minimum(np.floor(v / w), n - 1) + 0.5) * w
-        short = fmax[rows, cols] < need - 1e-6
-        uncovered[rows[short], cols[short]] = True
-    # The filling's centre lines stay inside fill_mask; its extrusions reach w/2 further.
-    if uncovered.any():
-        uncovered &= ~cv2.dilate(fill_mask.view(np.uint8), _disc(0.5 * w / p + 1)).view(bool)
-    return medial_fill(tile, uncovered, w, min_width)
-
-
 def mask_rings(grid: GridMask, mask: np.ndarray, tolerance: float = 0.5) -> list[np.ndarray]:
     """Rings (material on the left, mm) through the boundary pixel centres of a mask, from OpenCV.
 
@@ -176,68 +132,125 @@ def mask_rings(grid: GridMask, mask: np.ndarray, tolerance: float = 0.5) -> list
     return rings
 
 
-def medial_fill(grid: GridMask, uncovered: np.ndarray, w: float, min_width: float):
-    """Polylines along the medial axis of the parts of `uncovered` at least `min_width` wide.
+def perimeter_depth(line_width: float, n_perimeters: int, overlap: float = 0.15) -> float:
+    """How far from the boundary (mm) the perimeters, gap fill and filling limit read the distance field.
 
-    Returns the polylines (mm) and the extrusion width at each vertex (the
-    local width of the uncovered part, between `min_width` and 1.5 w).
-
-    See Also
-    --------
-    slicelab.geometry.trace_skeleton : the skeleton's chains.
-
-    References
-    ----------
-    T. Y. Zhang, C. Y. Suen, "A fast parallel algorithm for thinning digital
-    patterns", Communications of the ACM 27(3), 1984 (``skimage.morphology.skeletonize``).
+    The filling's limit lies at ``n w + w/2 - overlap w``; slivers of its region
+    thinner than w are opened away, which reads the field w/2 deeper.
 
     Examples
     --------
-    >>> g = GridMask(np.zeros((20, 60), bool), 0, 0, 0.05)
-    >>> strip = np.zeros((20, 60), bool); strip[7:13, 5:55] = True   # 0.3 mm x 2.5 mm
-    >>> lines, widths = medial_fill(g, strip, 0.4, 0.2)
-    >>> len(lines), round(float(np.hypot(*np.diff(lines[0], axis=0).T).sum()), 1), round(float(widths[0].max()), 3)
-    (1, 2.3, 0.275)
+    >>> round(perimeter_depth(0.4, 2), 6)
+    1.14
+    """
+    w = float(line_width)
+    return n_perimeters * w + 0.5 * w - overlap * w + 0.5 * w
+
+
+def _mask_rings(mask) -> list[np.ndarray]:
+    """Rings (mm, material on the left) half way between a mask's pixels and the pixels beside them."""
+    p = mask.pixel_size
+    if isinstance(mask, BlockMask):
+        # Uniform blocks beside blocks of another kind are held too: the contour may run along them.
+        g, bits = mask.blocks.widen(mask.bits, False, True)
+        r0 = c0 = 0
+        stack = g.mosaic(bits.astype(np.float32), 1, np.float32(0), np.float32(1))
+        rings = march_blocks(stack, 0.5, g)
+    else:
+        r0, c0 = mask.row0 - 1, mask.col0 - 1
+        rings = march(np.pad(mask.mask, 1).astype(np.float32), 0.5)
+    out = []
+    for c in rings:  # over rings: a quarter pixel keeps the corners of the staircases
+        c = simplify_ring(c, 0.25)
+        xy = np.stack([(c0 + c[:, 1]) * p, (r0 + c[:, 0]) * p], 1)
+        if len(xy) >= 3 and abs(signed_area(xy)) >= 4 * p * p:
+            out.append(xy)
+    return out
+
+
+def _rings_of(geometry) -> list[np.ndarray]:
+    """Exterior (counter-clockwise) and hole (clockwise) rings of a shapely geometry's polygons."""
+    import shapely
+    rings = []
+    for poly in shapely.get_parts(shapely.orient_polygons(geometry)):  # over polygons
+        if poly.geom_type != "Polygon" or poly.is_empty:
+            continue
+        rings += [np.asarray(r.coords)[:-1] for r in (poly.exterior, *poly.interiors)]
+    return rings
+
+
+def split_by_mask(polygons: list[Polygon], mask, min_area: float = 0.0) -> tuple[list, list]:
+    """Rings of the parts of polygons inside and outside a mask (mm, material on the left).
+
+    The mask's boundary is taken half way between its pixels and the pixels
+    beside them; the polygons are cut along it by shapely.
+
+    Parameters
+    ----------
+    polygons : list of Polygon
+    mask : GridMask or BlockMask
+    min_area : float
+        Rings enclosing less are dropped.
+
+    Returns
+    -------
+    inside, outside : list of (k, 2) ndarray
+
+    Examples
+    --------
+    >>> from slicelab.toolpath.masks import GridMask
+    >>> sq = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
+    >>> m = GridMask(np.ones((10, 2), bool), 0, 0, 1.0)   # x in [-0.5, 1.5]
+    >>> inside, outside = split_by_mask(level_polygons([sq]), m)
+    >>> [round(abs(signed_area(r)), 6) for r in inside + outside]
+    [6.0, 10.0]
+    """
+    import shapely
+    if not polygons:
+        return [], []
+    region = shapely.union_all([shapely.Polygon(q.exterior, q.holes) for q in polygons])
+    cut = shapely.union_all([shapely.Polygon(q.exterior, q.holes) for q in level_polygons(_mask_rings(mask))])
+
+    def keep(geometry):
+        return [r for r in _rings_of(geometry) if abs(signed_area(r)) >= min_area]
+
+    return keep(region.intersection(cut)), keep(region.difference(cut))
+
+
+def _opened(field, level: float, radius: float) -> np.ndarray:
+    """The region {field >= level} opened by a disc of `radius` mm, on the field's blocks (bool).
+
+    Parts of the region thinner than 2 radius (slivers where fill lines would run nearly
+    parallel and cover nothing) are removed; elsewhere its edge is the level set, since the
+    dilated core reaches 1.5 px past it.
     """
     import cv2
-    from skimage.morphology import skeletonize
-    p = grid.pixel_size
-    rows, cols = np.nonzero(uncovered)
-    if len(rows) == 0:
-        return [], []
-    # Work in the box of the uncovered pixels only (usually a small part of the tile).
-    r0, c0 = rows.min() - 2, cols.min() - 2
-    sub = np.zeros((rows.max() - r0 + 3, cols.max() - c0 + 3), np.uint8)
-    sub[rows - r0, cols - c0] = 1
-    dist = cv2.distanceTransform(sub, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
-    threshold = max(min_width / (2 * p) + 0.25, 1.5)  # a strip n px wide reaches n/2 (even n), (n+1)/2
-    seeds = dist >= threshold
-    if not seeds.any():
-        return [], []
-    _, lab = cv2.connectedComponents(sub, connectivity=8)
-    sub = np.isin(lab, np.unique(lab[seeds]))
-    # skeletonize gives a one-pixel skeleton even across strips of even width (medial_axis does not).
-    d = cv2.distanceTransform(sub.astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
-    skel = skeletonize(sub) & (d >= threshold - 1)
-    polylines, widths = [], []
-    for path in trace_skeleton(skel):  # over gap-fill chains
-        width_px = d[path[:, 0], path[:, 1]].astype(np.float64)
-        # Douglas-Peucker by OpenCV (skimage's approximate_polygon is the same algorithm, but
-        # importing it loads scipy.signal: half a second in every worker of a print plan).
-        simple = cv2.approxPolyDP(path.astype(np.int32).reshape(-1, 1, 2), 0.5, False).reshape(-1, 2)
-        # Widths follow the simplified vertices (nearest skeleton pixel of each).
-        near = np.argmin(np.abs(path[:, None, :] - simple[None]).sum(-1), axis=0)
-        xy = grid.xy(simple[:, 0] + r0, simple[:, 1] + c0)
-        if np.hypot(*np.diff(xy, axis=0).T).sum() < 0.5 * w:
-            continue
-        polylines.append(xy)
-        widths.append(np.clip((2 * width_px[near] - 0.5) * p, min_width, 1.5 * w))
-    return polylines, widths
+    p = field.grid.pixel_size
+    kernel = disc(radius / p + 1.5)
+    r = kernel.shape[0] // 2
+    core = cv2.compare(field.mosaic(r), float(level + radius), cv2.CMP_GE)
+    region = field.grid.blocks.cores(cv2.dilate(core, kernel), r).view(bool)
+    return region & (field.blocks >= level)
+
+
+def _islands_missed(field, level: float) -> int:
+    """Islands of a tile the level does not reach (too thin for a perimeter).
+
+    An island the level reaches has pixels just above it: the field climbs from below the level
+    at the boundary by at most ~1.5 px a step, so it cannot step over a band 3 px wide. Islands
+    missed lie wholly in the blocks near the boundary, each one connected part of them.
+    """
+    labels, count = field.grid.blocks.components(field.grid.bits)
+    p = field.grid.pixel_size
+    v = field.blocks
+    reached = np.zeros(count + 1, bool)
+    reached[labels[(v >= level) & (v <= level + 3 * p)]] = True
+    return count - int(np.count_nonzero(reached[1:]))
 
 
 def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, pixel_size: float = 0.05,
                      rule: str = "nonzero", overlap: float = 0.15, tolerance: float | None = None,
-                     solid: GridMask | None = None, min_gap_width: float | None = None) -> Perimeters:
+                     solid: GridMask | BlockMask | None = None, min_gap_width: float | None = None) -> Perimeters:
     """Perimeters of a layer by erosion, with the regions left for filling.
 
     Parameters
@@ -256,9 +269,10 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
         perimeter: its centre lines stop at ``n_perimeters w + w/2 - overlap w``.
     tolerance : float, optional
         Simplification tolerance (mm); default a tenth of a pixel.
-    solid : GridMask, optional
+    solid : GridMask or BlockMask, optional
         Where the filling must be solid; the fill region is split into
-        `Perimeters.solid` (inside the mask) and `Perimeters.fill`.
+        `Perimeters.solid` (inside the mask) and `Perimeters.fill`
+        (`split_by_mask`).
     min_gap_width : float, optional
         Narrowest gap or thin wall that gets gap fill (default w/2).
 
@@ -269,7 +283,8 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
     See Also
     --------
     slicelab.toolpath.distance.distance_field, slicelab.toolpath.distance.level_rings : the levels' rings.
-    medial_fill : the gap fill.
+    perimeter_depth : how deep the distance field is computed.
+    slicelab.toolpath.gapfill.medial_fill_blocks : the gap fill.
     slicelab.toolpath.paths.layer_paths : the perimeters with filling, in print order.
 
     Examples
@@ -281,52 +296,50 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
     >>> [round(abs(p.area), 6) for level in per.rings for p in level]
     [53.76, 42.24]
     """
-    raster = layer if isinstance(layer, LayerRaster) else rasterize(layer, pixel_size, rule=rule)
     w = float(line_width)
     if not (w > 0 and np.isfinite(w)):
         raise ValueError(f"line width must be a positive number, got {line_width!r}")
     if n_perimeters < 0:
         raise ValueError(f"perimeter count must be >= 0, got {n_perimeters!r}")
+    depth = perimeter_depth(w, n_perimeters, overlap)
+    if not isinstance(layer, LayerRaster):
+        layer = rasterize(layer, pixel_size, rule=rule, band=max(BAND, depth + 3 * float(pixel_size)))
+    raster = layer
     p = raster.pixel_size
+    if raster.band < depth + 3 * p:  # too few pixels held along the boundary: hold more
+        block = raster.tiles[0].blocks.size if raster.tiles else None
+        raster = rasterize(SimpleNamespace(loops=raster.loops), p, rule=raster.rule, band=depth + 3 * p,
+                           **({"block": block} if block else {}))
     tol = 0.1 * p if tolerance is None else float(tolerance)
     levels = (np.arange(n_perimeters) + 0.5) * w
     fill_level = n_perimeters * w + 0.5 * w - overlap * w
     min_gap = 0.5 * w if min_gap_width is None else float(min_gap_width)
     rings_by_level = [[] for _ in range(n_perimeters)]
-    fill_rings, solid_rings, gaps, gap_w, fields = [], [], [], [], []
+    fill_rings, gaps, gap_w, fields = [], [], [], []
     thin = 0
     for tile, segs in zip(raster.tiles, raster.segments):  # over tiles
-        index = SegmentIndex(segs, 2 * p)  # short pieces: fewer second rounds in `nearest`
-        # The filling limit needs no sub-pixel accuracy: only perimeter levels are refined.
-        fld = distance_field(tile, index, levels)
+        # Short pieces: fewer second rounds in the k-d tree; runs of pieces joined: fewer
+        # candidates near each pixel.
+        index = SegmentIndex(segs, 2 * p, join=True)
+        # Only perimeter levels are refined: the filling limit needs no sub-pixel accuracy.
+        fld = distance_field(tile, index, levels, depth=depth)
         fields.append(fld)
         for k, level in enumerate(levels):  # over levels
             rings_by_level[k] += level_rings(fld, level, tolerance=tol, index=index)
-        # The filling limit needs no sub-pixel accuracy (its lines end inside the perimeters'
-        # overlap): pixel contours of the mask, from OpenCV, are plenty and ten times cheaper.
-        # (Half a pixel lower: mask contours run through the boundary pixels' centres.)
-        fill_mask = _opened(fld.values, fill_level - 0.5 * p, 0.5 * w, p)
-        if solid is None:
-            fill_rings += mask_rings(tile, fill_mask)
-        else:
-            inside = solid.window(tile.row0, tile.col0, tile.shape)
-            fill_rings += mask_rings(tile, fill_mask & ~inside)
-            solid_rings += mask_rings(tile, fill_mask & inside)
-        g, gw = _gap_fill(tile, fld.values, fill_mask, levels, w, min_gap)
+        # The filling's region: its level set where the opening keeps it, the opening's edge
+        # elsewhere (the field lowered below the level there), simplified to half a pixel. Its
+        # mask is taken half a pixel lower, as its pixels' centres lie inside the level set.
+        fill_mask = _opened(fld, fill_level - 0.5 * p, 0.5 * w)
+        lowered = np.where(fill_mask, fld.blocks, np.minimum(fld.blocks, np.float32(fill_level - 0.6 * p)))
+        fill_rings += level_rings(fld, fill_level, tolerance=0.5 * p, values=lowered)
+        unc = uncovered_blocks(fld, fill_mask, levels, w)
+        g, gw = medial_fill_blocks(tile.blocks, unc, p, w, min_gap)
         gaps += g
         gap_w += gw
         if n_perimeters:
-            import cv2
-            n_lab, lab = cv2.connectedComponents(tile.mask.view(np.uint8), connectivity=8)
-            # An island the first level reaches has pixels just above it: the field climbs
-            # from below the level at the boundary by at most ~1.5 px a step, so it cannot
-            # step over a band 3 px wide. Those few pixels say which islands are reached.
-            lv = float(levels[0])
-            ring = cv2.findNonZero(cv2.inRange(fld.values, lv, lv + 3 * p))
-            reached = np.zeros(n_lab, bool)
-            if ring is not None:
-                x, y = ring.reshape(-1, 2).T
-                reached[lab[y, x]] = True
-            thin += int(np.count_nonzero(~reached[1:]))
+            thin += _islands_missed(fld, float(levels[0]))
+    solid_rings = []
+    if solid is not None and fill_rings:
+        solid_rings, fill_rings = split_by_mask(level_polygons(fill_rings), solid, 4 * p * p)
     return Perimeters(w, levels, [level_polygons(r) for r in rings_by_level], fill_level,
                       level_polygons(fill_rings), level_polygons(solid_rings), gaps, gap_w, thin, fields)

@@ -11,6 +11,12 @@ first pixel centre right of its crossing, and a running sum along the row
 gives each pixel centre's winding number. Overlapping shells (CAD exports)
 then fill as one region under the nonzero rule, and an overlap becomes a
 hole under the even-odd rule. OpenCV gives the contour tree of the mask.
+
+A layer's mask is held by blocks (`slicelab.toolpath.masks.BlockMask`):
+pixels only in the blocks within `band` of the boundary, found from the
+edges' extents; every other block is inside or outside as a whole, which the
+winding number of one pixel of it says. Rasterising then costs in proportion
+to the boundary, not to the area of the island's box.
 """
 from __future__ import annotations
 
@@ -18,132 +24,18 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..geometry.blocks import FULL, BlockGrid, blocks_near
 from ..geometry.polygons import signed_area
 from ..geometry.ragged import expand_ranges
 from ..geometry.spatial import split_segments
+from .masks import BlockMask, GridMask
 
-__all__ = ["GridMask", "LayerRaster", "RasterContours", "rasterize", "winding_numbers",
-           "raster_hierarchy", "draw_polylines", "RULES"]
+__all__ = ["GridMask", "LayerRaster", "RasterContours", "rasterize", "winding_numbers", "winding_blocks",
+           "raster_blocks", "raster_hierarchy", "draw_polylines", "RULES", "BLOCK", "BAND"]
 
 RULES = ("nonzero", "evenodd")
-
-
-@dataclass(frozen=True, eq=False)
-class GridMask:
-    """A boolean mask on the world-anchored pixel grid.
-
-    Attributes
-    ----------
-    mask : (h, w) bool ndarray
-        ``mask[r, c]`` is the pixel centred at ``((col0 + c) p, (row0 + r) p)``.
-    row0, col0 : int
-        World grid indices of the window's first row and column.
-    pixel_size : float
-        p, in mm.
-
-    Examples
-    --------
-    >>> g = GridMask(np.ones((2, 3), bool), row0=10, col0=-1, pixel_size=0.5)
-    >>> g.xy([0, 1], [0, 2]).tolist(), g.area
-    ([[-0.5, 5.0], [0.5, 5.5]], 1.5)
-    """
-
-    mask: np.ndarray
-    row0: int
-    col0: int
-    pixel_size: float
-
-    @property
-    def shape(self) -> tuple[int, int]:
-        return self.mask.shape
-
-    @property
-    def area(self) -> float:
-        """Material area counted in pixels (mm^2)."""
-        return float(np.count_nonzero(self.mask)) * self.pixel_size ** 2
-
-    @property
-    def transform(self) -> np.ndarray:
-        """3x3 affine matrix taking (col, row, 1) array indices to (x, y, 1) in mm.
-
-        Examples
-        --------
-        >>> GridMask(np.ones((1, 1), bool), 2, 3, 0.1).transform @ [0, 0, 1]
-        array([0.3, 0.2, 1. ])
-        """
-        p = self.pixel_size
-        return np.array([[p, 0.0, self.col0 * p], [0.0, p, self.row0 * p], [0.0, 0.0, 1.0]])
-
-    @property
-    def extent(self) -> list[float]:
-        """matplotlib ``imshow(..., origin="lower", extent=...)`` of the window (pixel edges, mm)."""
-        p = self.pixel_size
-        h, w = self.shape
-        return [(self.col0 - 0.5) * p, (self.col0 + w - 0.5) * p,
-                (self.row0 - 0.5) * p, (self.row0 + h - 0.5) * p]
-
-    def xy(self, rows, cols) -> np.ndarray:
-        """Millimetre coordinates of (fractional) array indices."""
-        rows, cols = np.asarray(rows, np.float64), np.asarray(cols, np.float64)
-        return np.stack([(self.col0 + cols) * self.pixel_size, (self.row0 + rows) * self.pixel_size], -1)
-
-    def indices(self, xy) -> np.ndarray:
-        """Fractional (row, col) array indices of points in mm (inverse of `xy`)."""
-        q = np.asarray(xy, np.float64) / self.pixel_size
-        return np.stack([q[..., 1] - self.row0, q[..., 0] - self.col0], -1)
-
-    def window(self, row0: int, col0: int, shape) -> np.ndarray:
-        """This mask copied into another window of the same grid (False outside it).
-
-        Examples
-        --------
-        >>> g = GridMask(np.ones((2, 2), bool), 0, 0, 1.0)
-        >>> g.window(1, -1, (2, 2)).astype(int).tolist()
-        [[0, 1], [0, 0]]
-        """
-        h, w = shape
-        out = np.zeros((h, w), bool)
-        r0, c0 = max(row0, self.row0), max(col0, self.col0)
-        r1 = min(row0 + h, self.row0 + self.shape[0])
-        c1 = min(col0 + w, self.col0 + self.shape[1])
-        if r1 > r0 and c1 > c0:
-            out[r0 - row0:r1 - row0, c0 - col0:c1 - col0] = \
-                self.mask[r0 - self.row0:r1 - self.row0, c0 - self.col0:c1 - self.col0]
-        return out
-
-    def _check(self, other: "GridMask") -> None:
-        if other.pixel_size != self.pixel_size:
-            raise ValueError("masks on different pixel grids cannot be combined")
-
-    def __and__(self, other: "GridMask") -> "GridMask":
-        self._check(other)
-        return GridMask(self.mask & other.window(self.row0, self.col0, self.shape), self.row0, self.col0,
-                        self.pixel_size)
-
-    def __sub__(self, other: "GridMask") -> "GridMask":
-        """Pixels of self that are not in other (e.g. skin: a layer minus the layer above)."""
-        self._check(other)
-        return GridMask(self.mask & ~other.window(self.row0, self.col0, self.shape), self.row0, self.col0,
-                        self.pixel_size)
-
-    def __or__(self, other: "GridMask") -> "GridMask":
-        self._check(other)
-        r0, c0 = min(self.row0, other.row0), min(self.col0, other.col0)
-        r1 = max(self.row0 + self.shape[0], other.row0 + other.shape[0])
-        c1 = max(self.col0 + self.shape[1], other.col0 + other.shape[1])
-        shape = (r1 - r0, c1 - c0)
-        return GridMask(self.window(r0, c0, shape) | other.window(r0, c0, shape), r0, c0, self.pixel_size)
-
-    @staticmethod
-    def union(masks, pixel_size: float) -> "GridMask":
-        """Union of several masks on one grid (an empty 1x1 mask for none)."""
-        masks = list(masks)
-        if not masks:
-            return GridMask(np.zeros((1, 1), bool), 0, 0, pixel_size)
-        out = masks[0]
-        for m in masks[1:]:  # over tiles, few
-            out = out | m
-        return out
+BLOCK = 32  # block size (pixels) of layer masks
+BAND = 1.5  # mm of pixels kept along the boundary by default: two perimeters of 0.4 mm and their filling limit
 
 
 @dataclass(frozen=True, eq=False)
@@ -154,9 +46,10 @@ class LayerRaster:
 
     Attributes
     ----------
-    tiles : tuple of GridMask
-        Each tile is cropped to the bounding box of its islands plus a margin;
-        tiles never overlap in material.
+    tiles : tuple of BlockMask
+        Each tile's window is the bounding box of its islands plus a margin;
+        tiles never overlap in material. Pixels are held within `band` of the
+        boundary.
     pixel_size : float
     rule : str
         ``"nonzero"`` or ``"evenodd"``.
@@ -168,6 +61,8 @@ class LayerRaster:
         material under the rule (material on one side only); pieces buried
         inside overlapping shells are left out. Exact distances are measured
         to these.
+    band : float
+        Every pixel within this distance (mm) of the boundary is held.
     """
 
     tiles: tuple
@@ -176,18 +71,24 @@ class LayerRaster:
     loops: list
     loop_tile: np.ndarray
     segments: list
+    band: float = BAND
 
     @property
     def area(self) -> float:
         """Material area counted in pixels (mm^2)."""
         return sum(t.area for t in self.tiles)
 
-    def combined(self) -> GridMask:
+    @property
+    def pixels(self) -> int:
+        """How many pixels the tiles hold (their active blocks')."""
+        return sum(t.pixels for t in self.tiles)
+
+    def combined(self):
         """All tiles in one mask (window: the union of the tile windows)."""
         return GridMask.union(self.tiles, self.pixel_size)
 
     def __repr__(self) -> str:
-        return (f"LayerRaster({len(self.tiles)} tiles, {sum(t.mask.size for t in self.tiles)} px, "
+        return (f"LayerRaster({len(self.tiles)} tiles, {self.pixels} px held, "
                 f"p={self.pixel_size:g} mm, rule={self.rule}, area={self.area:.6g} mm2)")
 
 
@@ -195,6 +96,27 @@ def _edges(loops) -> np.ndarray:
     if not loops:
         return np.zeros((0, 2, 2))
     return np.concatenate([np.stack([lp, np.roll(lp, -1, axis=0)], axis=1) for lp in loops])
+
+
+def _crossings(edges: np.ndarray, r_first: int, r_stop: int, pixel_size: float):
+    """Every crossing of an edge with a pixel-centre row in r_first .. r_stop - 1: its row, the x
+    of the crossing, and the winding step (+1 or -1) of the pixels right of it.
+
+    Row r is crossed when ``ceil(ymin / p) <= r < ceil(ymax / p)``: a vertex
+    shared by two edges gives both the same verdict, so a row through a vertex
+    is counted once.
+    """
+    p = float(pixel_size)
+    x0, y0 = edges[:, 0, 0], edges[:, 0, 1]
+    x1, y1 = edges[:, 1, 0], edges[:, 1, 1]
+    r_lo = np.clip(np.ceil(np.minimum(y0, y1) / p).astype(np.int64), r_first, r_stop)
+    r_hi = np.clip(np.ceil(np.maximum(y0, y1) / p).astype(np.int64), r_first, r_stop)
+    idx, rows = expand_ranges(r_lo, r_hi - r_lo)
+    t = (rows * p - y0[idx]) / (y1[idx] - y0[idx])
+    x = x0[idx] + t * (x1[idx] - x0[idx])
+    # An upward edge has the material on its left: pixels right of it leave a winding.
+    step = np.where(y1[idx] > y0[idx], np.int32(-1), np.int32(1))
+    return rows, x, step
 
 
 def winding_numbers(edges: np.ndarray, row0: int, col0: int, shape, pixel_size: float) -> np.ndarray:
@@ -220,6 +142,10 @@ def winding_numbers(edges: np.ndarray, row0: int, col0: int, shape, pixel_size: 
     a vertex is counted once. Every crossing is one ``bincount`` entry; no
     Python loop runs over edges.
 
+    See Also
+    --------
+    winding_blocks : the same numbers, only in the blocks of a `BlockGrid`.
+
     Examples
     --------
     >>> sq = np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float)
@@ -228,20 +154,10 @@ def winding_numbers(edges: np.ndarray, row0: int, col0: int, shape, pixel_size: 
     [[0, 0, 0, 0], [0, 1, 1, 0], [1, 2, 1, 0], [1, 1, 0, 0]]
     """
     h, w = shape
-    p = float(pixel_size)
     if len(edges) == 0:
         return np.zeros((h, w), np.int32)
-    x0, y0 = edges[:, 0, 0], edges[:, 0, 1]
-    x1, y1 = edges[:, 1, 0], edges[:, 1, 1]
-    r_lo = np.clip(np.ceil(np.minimum(y0, y1) / p).astype(np.int64), row0, row0 + h)
-    r_hi = np.clip(np.ceil(np.maximum(y0, y1) / p).astype(np.int64), row0, row0 + h)
-    idx, rows = expand_ranges(r_lo, r_hi - r_lo)
-    yr = rows * p
-    t = (yr - y0[idx]) / (y1[idx] - y0[idx])
-    x = x0[idx] + t * (x1[idx] - x0[idx])
-    cols = np.clip(np.ceil(x / p).astype(np.int64) - col0, 0, w)
-    # An upward edge has the material on its left: pixels right of it leave a winding.
-    step = np.where(y1[idx] > y0[idx], np.int32(-1), np.int32(1))
+    rows, x, step = _crossings(edges, row0, row0 + h, pixel_size)
+    cols = np.clip(np.ceil(x / pixel_size).astype(np.int64) - col0, 0, w)
     # The crossings are few (about two per boundary row) against the window's pixels: added
     # into an int32 table in place, not counted into a float table the size of the window.
     acc = np.zeros((h, w + 1), np.int32)
@@ -249,8 +165,103 @@ def winding_numbers(edges: np.ndarray, row0: int, col0: int, shape, pixel_size: 
     return np.cumsum(acc, axis=1, dtype=np.int32)[:, :w]
 
 
+def winding_blocks(edges: np.ndarray, blocks: BlockGrid, pixel_size: float) -> np.ndarray:
+    """Winding number of every pixel of the active blocks of a `BlockGrid`.
+
+    The same numbers as `winding_numbers`, block by block: a block's row
+    starts from the crossings left of the block (a binary search in the
+    crossings sorted by row and column), then adds its own.
+
+    Returns
+    -------
+    (n, B, B) int32 ndarray
+
+    Examples
+    --------
+    >>> sq = np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float)
+    >>> g = BlockGrid(2, 0, 0, np.array([[0, 1]]))
+    >>> e = _edges([sq, sq + 1])
+    >>> np.array_equal(np.concatenate(list(winding_blocks(e, g, 1.0)), 1), winding_numbers(e, 0, 0, (2, 4), 1.0))
+    True
+    """
+    b, n = blocks.size, len(blocks)
+    out = np.zeros((n, b, b), np.int32)
+    if n == 0 or len(edges) == 0:
+        return out
+    nr, nc = blocks.table.shape
+    r_first, c_first = blocks.row0 * b, blocks.col0 * b - 1
+    rows, x, step = _crossings(edges, r_first, (blocks.row0 + nr) * b, pixel_size)
+    cols = np.clip(np.ceil(x / pixel_size).astype(np.int64), c_first, (blocks.col0 + nc) * b)
+    stride = nc * b + 2
+    key = (rows - r_first) * stride + (cols - c_first)
+    order = np.argsort(key, kind="stable")
+    key = key[order]
+    total = np.concatenate([[0], np.cumsum(step[order], dtype=np.int64)])
+    br, bc = blocks.origins()
+    line = (br[:, None] + np.arange(b) - r_first) * stride  # (n, B): each block row's first key
+    base = total[np.searchsorted(key, line + (bc - c_first)[:, None])] - total[np.searchsorted(key, line)]
+    k, lr, lc = blocks.locate(rows, cols)
+    on = k >= 0
+    np.add.at(out.reshape(-1), (k[on] * b + lr[on]) * b + lc[on], step[on])
+    out = np.cumsum(out, axis=2, dtype=np.int32)
+    out += base[:, :, None].astype(np.int32)
+    return out
+
+
 def _apply_rule(winding: np.ndarray, rule: str) -> np.ndarray:
     return winding != 0 if rule == "nonzero" else (winding & 1).astype(bool)
+
+
+def raster_blocks(edges: np.ndarray, row0: int, col0: int, shape, pixel_size: float, *, rule: str = "nonzero",
+                  band: float = BAND, size: int = BLOCK) -> BlockMask:
+    """The material of closed loops in a window, held by blocks within `band` of the edges.
+
+    A block is active when its pixels come within `band` (plus two pixels)
+    of an edge; the others hold no edge, so one pixel's winding number
+    (`winding_numbers` on the grid of block corners) says for all of them.
+
+    Parameters
+    ----------
+    edges : (m, 2, 2) ndarray
+        Oriented edges of closed loops (mm).
+    row0, col0, shape
+        The window (world pixels) the material lies in.
+    pixel_size : float
+    rule : {"nonzero", "evenodd"}
+    band : float
+        mm.
+    size : int
+        Block size (pixels).
+
+    Returns
+    -------
+    BlockMask
+
+    Examples
+    --------
+    >>> sq = np.array([[0, 0], [20, 0], [20, 20], [0, 20]], float)
+    >>> m = raster_blocks(_edges([sq]), -3, -3, (207, 207), 0.1, band=0.5, size=16)
+    >>> len(m.blocks), m.blocks.n_full, round(m.area, 6), np.array_equal(m.mask, winding_numbers(
+    ...     _edges([sq]), -3, -3, (207, 207), 0.1) != 0)
+    (48, 121, 400.0, True)
+    """
+    p = float(pixel_size)
+    h, w = shape
+    rows = (row0 // size, (row0 + h - 1) // size)
+    cols = (col0 // size, (col0 + w - 1) // size)
+    active = blocks_near(edges, p, size, int(np.ceil(band / p)) + 2, rows, cols)
+    # The first pixel of block (i, j) is the pixel (i, j) of a grid of size * p pixels.
+    corner = winding_numbers(edges, rows[0], cols[0], active.shape, size * p)
+    grid = BlockGrid.from_status(size, rows[0], cols[0], active, _apply_rule(corner, rule) & ~active)
+    bits = _apply_rule(winding_blocks(edges, grid, p), rule)
+    # A block near the boundary but wholly outside the material is an empty block: nothing is
+    # lost by holding it as one (it is the band outside the material, about half of it).
+    some = bits.any(axis=(1, 2))
+    if not some.all():
+        active[grid.rows[~some] - rows[0], grid.cols[~some] - cols[0]] = False
+        grid = BlockGrid.from_status(size, rows[0], cols[0], active, grid.table == FULL)
+        bits = bits[some]
+    return BlockMask(bits, grid, int(row0), int(col0), (int(h), int(w)), p)
 
 
 def _groups(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
@@ -267,7 +278,8 @@ def _groups(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     return connected_components(coo_matrix((np.ones(len(i)), (i, j)), shape=(n, n)), directed=False)[1]
 
 
-def rasterize(section, pixel_size: float = 0.05, *, rule: str = "nonzero", margin: int = 3) -> LayerRaster:
+def rasterize(section, pixel_size: float = 0.05, *, rule: str = "nonzero", margin: int = 3,
+              band: float = BAND, block: int = BLOCK) -> LayerRaster:
     """Rasterise a section's material on the world-anchored pixel grid.
 
     Parameters
@@ -280,6 +292,11 @@ def rasterize(section, pixel_size: float = 0.05, *, rule: str = "nonzero", margi
         Fill rule for overlapping or inside-out loops.
     margin : int, default 3
         Empty pixels kept around each tile.
+    band : float, default `BAND`
+        Pixels within this distance (mm) of the boundary are held; blocks
+        further inside or outside are held as a whole (`raster_blocks`).
+    block : int, default `BLOCK`
+        Block size (pixels); one block larger than the island holds it whole.
 
     Returns
     -------
@@ -301,7 +318,7 @@ def rasterize(section, pixel_size: float = 0.05, *, rule: str = "nonzero", margi
         raise ValueError(f"pixel size must be a positive number, got {pixel_size!r}")
     loops = [np.asarray(lp, np.float64) for lp in section.loops if len(lp) >= 3]
     if not loops:
-        return LayerRaster((), p, rule, [], np.zeros(0, np.int64), [])
+        return LayerRaster((), p, rule, [], np.zeros(0, np.int64), [], float(band))
     lo = np.array([lp.min(axis=0) for lp in loops])
     hi = np.array([lp.max(axis=0) for lp in loops])
     # Pixel-index boxes, widened by the margin so tiles that would touch are merged.
@@ -315,21 +332,20 @@ def rasterize(section, pixel_size: float = 0.05, *, rule: str = "nonzero", margi
         c1, r1 = phi[members].max(axis=0)
         shape = (int(r1 - r0 + 1), int(c1 - c0 + 1))
         edges = _edges([loops[k] for k in members])
-        winding = winding_numbers(edges, int(r0), int(c0), shape, p)
-        mask = _apply_rule(winding, rule)
-        tiles.append(GridMask(mask, int(r0), int(c0), p))
+        tile = raster_blocks(edges, int(r0), int(c0), shape, p, rule=rule, band=band, size=block)
+        tiles.append(tile)
         # Pieces of at most 4 px, so an edge that is partly buried by another shell keeps its
         # exposed part (to within one piece).
         pieces, _ = split_segments(edges, 4 * p)
-        seg_lists.append(_exposed(pieces, edges, winding, rule, int(r0), int(c0), p))
-    return LayerRaster(tuple(tiles), p, rule, loops, group.astype(np.int64), seg_lists)
+        seg_lists.append(_exposed(pieces, edges, tile))
+    return LayerRaster(tuple(tiles), p, rule, loops, group.astype(np.int64), seg_lists, float(band))
 
 
-def _exposed(pieces, edges, winding, rule, row0, col0, p) -> np.ndarray:
+def _exposed(pieces, edges, tile) -> np.ndarray:
     """The pieces of loop edges that bound material; a piece that another shell's edge crosses
     (points near its ends and middle disagree) is cut at the crossings and each part judged on
     its own."""
-    votes = [_bounding(pieces, winding, rule, row0, col0, p, at=t) for t in (0.05, 0.5, 0.95)]
+    votes = [_bounding(pieces, tile, at=t) for t in (0.05, 0.5, 0.95)]
     mixed = np.flatnonzero((votes[0] != votes[1]) | (votes[1] != votes[2]))
     out = [pieces[votes[0] & votes[1] & votes[2]]]
     if len(mixed):
@@ -344,26 +360,21 @@ def _exposed(pieces, edges, winding, rule, row0, col0, p) -> np.ndarray:
         for i in range(len(mixed)):  # over crossed pieces: few
             ts = np.concatenate([[0.0], np.sort(t[i][hit[i]]), [1.0]])
             parts = np.stack([a[i] + ts[:-1, None] * d[i], a[i] + ts[1:, None] * d[i]], axis=1)
-            out.append(parts[_bounding(parts, winding, rule, row0, col0, p)])
+            out.append(parts[_bounding(parts, tile)])
     return np.concatenate(out)
 
 
-def _bounding(edges, winding, rule, row0, col0, p, at: float = 0.5) -> np.ndarray:
+def _bounding(edges, tile, at: float = 0.5) -> np.ndarray:
     """Which edges have material on exactly one side (sampled 1.5 px either side of the point
     at fraction `at` along them)."""
+    p = tile.pixel_size
     d = edges[:, 1] - edges[:, 0]
     length = np.hypot(d[:, 0], d[:, 1])
     n = np.stack([-d[:, 1], d[:, 0]], 1) / np.where(length > 0, length, 1.0)[:, None]
     mid = edges[:, 0] + at * d
-    h, w = winding.shape
 
     def material(pts):
-        r = np.rint(pts[:, 1] / p).astype(np.int64) - row0
-        c = np.rint(pts[:, 0] / p).astype(np.int64) - col0
-        inside = (r >= 0) & (r < h) & (c >= 0) & (c < w)
-        out = np.zeros(len(pts), bool)
-        out[inside] = _apply_rule(winding[r[inside], c[inside]], rule)
-        return out
+        return tile.at(np.rint(pts[:, 1] / p).astype(np.int64), np.rint(pts[:, 0] / p).astype(np.int64))
 
     # 1.5 px: the nearest pixel centre of the sample point is then surely on its side.
     left, right = material(mid + 1.5 * p * n), material(mid - 1.5 * p * n)

@@ -1,0 +1,336 @@
+"""Boolean masks on the world-anchored pixel grid: whole windows, or blocks along a boundary.
+
+Pixel (r, c) of the world grid has its centre at ``(x, y) = (c * p, r * p)``
+for pixel size p: rows run along +y and nothing is flipped. A mask covers a
+window of that grid (``row0``, ``col0`` and its shape), so masks of
+different layers line up by integer offsets, whatever their windows.
+
+A `GridMask` holds every pixel of its window. A `BlockMask` holds pixels
+only in the blocks near its boundary (`slicelab.geometry.blocks.BlockGrid`);
+the others are uniformly empty or full, so its cost follows the boundary,
+and set operations between block masks work block by block. Both offer the
+same window methods; a block mask's whole array (`BlockMask.mask`) is made
+on first use, for plots and callers that want pixels everywhere.
+
+See Also
+--------
+slicelab.toolpath.raster.rasterize : a layer's material as block masks.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from ..geometry.blocks import EMPTY, FULL, BlockGrid
+
+__all__ = ["GridMask", "BlockMask", "bits_in_blocks", "open_mask"]
+
+
+class _Window:
+    """Millimetre coordinates of a window of the world grid (needs row0, col0, shape, pixel_size)."""
+
+    @property
+    def transform(self) -> np.ndarray:
+        """3x3 affine matrix taking (col, row, 1) array indices to (x, y, 1) in mm.
+
+        Examples
+        --------
+        >>> GridMask(np.ones((1, 1), bool), 2, 3, 0.1).transform @ [0, 0, 1]
+        array([0.3, 0.2, 1. ])
+        """
+        p = self.pixel_size
+        return np.array([[p, 0.0, self.col0 * p], [0.0, p, self.row0 * p], [0.0, 0.0, 1.0]])
+
+    @property
+    def extent(self) -> list[float]:
+        """matplotlib ``imshow(..., origin="lower", extent=...)`` of the window (pixel edges, mm)."""
+        p = self.pixel_size
+        h, w = self.shape
+        return [(self.col0 - 0.5) * p, (self.col0 + w - 0.5) * p,
+                (self.row0 - 0.5) * p, (self.row0 + h - 0.5) * p]
+
+    def xy(self, rows, cols) -> np.ndarray:
+        """Millimetre coordinates of (fractional) array indices."""
+        rows, cols = np.asarray(rows, np.float64), np.asarray(cols, np.float64)
+        return np.stack([(self.col0 + cols) * self.pixel_size, (self.row0 + rows) * self.pixel_size], -1)
+
+    def indices(self, xy) -> np.ndarray:
+        """Fractional (row, col) array indices of points in mm (inverse of `xy`)."""
+        q = np.asarray(xy, np.float64) / self.pixel_size
+        return np.stack([q[..., 1] - self.row0, q[..., 0] - self.col0], -1)
+
+    def _check(self, other) -> None:
+        if other.pixel_size != self.pixel_size:
+            raise ValueError("masks on different pixel grids cannot be combined")
+
+
+@dataclass(frozen=True, eq=False)
+class GridMask(_Window):
+    """A boolean mask on the world-anchored pixel grid.
+
+    Attributes
+    ----------
+    mask : (h, w) bool ndarray
+        ``mask[r, c]`` is the pixel centred at ``((col0 + c) p, (row0 + r) p)``.
+    row0, col0 : int
+        World grid indices of the window's first row and column.
+    pixel_size : float
+        p, in mm.
+
+    Examples
+    --------
+    >>> g = GridMask(np.ones((2, 3), bool), row0=10, col0=-1, pixel_size=0.5)
+    >>> g.xy([0, 1], [0, 2]).tolist(), g.area
+    ([[-0.5, 5.0], [0.5, 5.5]], 1.5)
+    """
+
+    mask: np.ndarray
+    row0: int
+    col0: int
+    pixel_size: float
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        return self.mask.shape
+
+    @property
+    def area(self) -> float:
+        """Material area counted in pixels (mm^2)."""
+        return float(np.count_nonzero(self.mask)) * self.pixel_size ** 2
+
+    def window(self, row0: int, col0: int, shape) -> np.ndarray:
+        """This mask copied into another window of the same grid (False outside it).
+
+        Examples
+        --------
+        >>> g = GridMask(np.ones((2, 2), bool), 0, 0, 1.0)
+        >>> g.window(1, -1, (2, 2)).astype(int).tolist()
+        [[0, 1], [0, 0]]
+        """
+        h, w = shape
+        out = np.zeros((h, w), bool)
+        r0, c0 = max(row0, self.row0), max(col0, self.col0)
+        r1 = min(row0 + h, self.row0 + self.shape[0])
+        c1 = min(col0 + w, self.col0 + self.shape[1])
+        if r1 > r0 and c1 > c0:
+            out[r0 - row0:r1 - row0, c0 - col0:c1 - col0] = \
+                self.mask[r0 - self.row0:r1 - self.row0, c0 - self.col0:c1 - self.col0]
+        return out
+
+    def __and__(self, other) -> "GridMask":
+        self._check(other)
+        return GridMask(self.mask & other.window(self.row0, self.col0, self.shape), self.row0, self.col0,
+                        self.pixel_size)
+
+    def __sub__(self, other) -> "GridMask":
+        """Pixels of self that are not in other (e.g. skin: a layer minus the layer above)."""
+        self._check(other)
+        return GridMask(self.mask & ~other.window(self.row0, self.col0, self.shape), self.row0, self.col0,
+                        self.pixel_size)
+
+    def __or__(self, other) -> "GridMask":
+        self._check(other)
+        r0, c0 = min(self.row0, other.row0), min(self.col0, other.col0)
+        r1 = max(self.row0 + self.shape[0], other.row0 + other.shape[0])
+        c1 = max(self.col0 + self.shape[1], other.col0 + other.shape[1])
+        shape = (r1 - r0, c1 - c0)
+        return GridMask(self.window(r0, c0, shape) | other.window(r0, c0, shape), r0, c0, self.pixel_size)
+
+    @staticmethod
+    def union(masks, pixel_size: float):
+        """Union of several masks on one grid (an empty 1x1 mask for none)."""
+        masks = list(masks)
+        if not masks:
+            return GridMask(np.zeros((1, 1), bool), 0, 0, pixel_size)
+        out = masks[0]
+        for m in masks[1:]:  # over tiles, few
+            out = out | m
+        return out
+
+
+# Uniform value of a block: empty, full, or mixed (its pixels held).
+_KIND_OPS = {
+    "and": lambda a, b: np.where((a == 0) | (b == 0), 0, np.where((a == 1) & (b == 1), 1, 2)),
+    "sub": lambda a, b: np.where((a == 0) | (b == 1), 0, np.where((a == 1) & (b == 0), 1, 2)),
+    "or": lambda a, b: np.where((a == 1) | (b == 1), 1, np.where((a == 0) & (b == 0), 0, 2)),
+}
+_BIT_OPS = {"and": lambda a, b: a & b, "sub": lambda a, b: a & ~b, "or": lambda a, b: a | b}
+
+
+@dataclass(frozen=True, eq=False)
+class BlockMask(_Window):
+    """A boolean mask on the world grid whose pixels are held only in the blocks of its boundary.
+
+    Attributes
+    ----------
+    bits : (n, B, B) bool ndarray
+        Pixels of the active blocks of `blocks`, in its stack order.
+    blocks : BlockGrid
+        Which blocks are active, empty or full.
+    row0, col0 : int
+        The window on the world grid (the material lies inside it).
+    shape : (int, int)
+    pixel_size : float
+
+    Examples
+    --------
+    >>> from slicelab.geometry.blocks import BlockGrid
+    >>> g = BlockGrid(2, 0, 0, np.array([[0, -2]]))
+    >>> m = BlockMask(np.array([[[1, 0], [1, 1]]], bool), g, 0, 0, (2, 4), 1.0)
+    >>> m.mask.astype(int).tolist(), m.area
+    ([[1, 0, 1, 1], [1, 1, 1, 1]], 7.0)
+    >>> (m - GridMask(np.ones((1, 1), bool), 0, 0, 1.0)).mask.astype(int).tolist()
+    [[0, 0, 1, 1], [1, 1, 1, 1]]
+    """
+
+    bits: np.ndarray
+    blocks: BlockGrid
+    row0: int
+    col0: int
+    shape: tuple
+    pixel_size: float
+
+    @cached_property
+    def mask(self) -> np.ndarray:
+        """The whole window as one (h, w) bool array (made on first use)."""
+        return self.window(self.row0, self.col0, self.shape)
+
+    @property
+    def area(self) -> float:
+        """Material area counted in pixels (mm^2)."""
+        return float(np.count_nonzero(self.bits) + self.blocks.n_full * self.blocks.size ** 2) \
+            * self.pixel_size ** 2
+
+    @property
+    def pixels(self) -> int:
+        """How many pixels the mask holds (its active blocks')."""
+        return int(self.bits.size)
+
+    def window(self, row0: int, col0: int, shape) -> np.ndarray:
+        """This mask copied into a window of the same grid (False outside it)."""
+        return self.blocks.assemble(self.bits, False, True, row0, col0, shape)
+
+    def at(self, rows, cols) -> np.ndarray:
+        """The mask at world pixels (row, col)."""
+        return self.blocks.sample(self.bits, False, True, rows, cols)
+
+    def to_grid(self) -> GridMask:
+        """The same mask with every pixel of its window held."""
+        return GridMask(self.mask, self.row0, self.col0, self.pixel_size)
+
+    def _op(self, other, op: str):
+        self._check(other)
+        if not (isinstance(other, BlockMask) and other.blocks.size == self.blocks.size):
+            if op == "or":
+                return self.to_grid() | other
+            return self.to_grid() & other if op == "and" else self.to_grid() - other
+        a, b = self.blocks, other.blocks
+        if op == "or":
+            r0, c0 = min(a.row0, b.row0), min(a.col0, b.col0)
+            r1 = max(a.row0 + a.table.shape[0], b.row0 + b.table.shape[0])
+            c1 = max(a.col0 + a.table.shape[1], b.col0 + b.table.shape[1])
+            row0, col0 = min(self.row0, other.row0), min(self.col0, other.col0)
+            shape = (max(self.row0 + self.shape[0], other.row0 + other.shape[0]) - row0,
+                     max(self.col0 + self.shape[1], other.col0 + other.shape[1]) - col0)
+        else:
+            r0, c0 = a.row0, a.col0
+            r1, c1 = r0 + a.table.shape[0], c0 + a.table.shape[1]
+            row0, col0, shape = self.row0, self.col0, self.shape
+        br, bc = np.mgrid[r0:r1, c0:c1]
+        sa, sb = a.status(br, bc), b.status(br, bc)
+        ka = np.where(sa >= 0, 2, np.where(sa == FULL, 1, 0))
+        kb = np.where(sb >= 0, 2, np.where(sb == FULL, 1, 0))
+        kind = _KIND_OPS[op](ka, kb)
+        mixed = kind == 2
+        bits = _BIT_OPS[op](_stack(self.bits, sa[mixed]), _stack(other.bits, sb[mixed]))
+        # Blocks that came out uniform become empty or full again.
+        flat = bits.reshape(len(bits), -1) if len(bits) else bits.reshape(0, 1)
+        some, every = flat.any(axis=1), flat.all(axis=1)
+        keep = some & ~every
+        kind[mixed] = np.where(keep, 2, np.where(every, 1, 0))
+        grid = BlockGrid.from_status(a.size, r0, c0, kind == 2, kind == 1)
+        return BlockMask(bits[keep], grid, row0, col0, tuple(shape), self.pixel_size)
+
+    def __and__(self, other):
+        return self._op(other, "and")
+
+    def __sub__(self, other):
+        """Pixels of self that are not in other."""
+        return self._op(other, "sub")
+
+    def __or__(self, other):
+        return self._op(other, "or")
+
+    def __repr__(self) -> str:
+        return (f"BlockMask({len(self.blocks)} blocks of {self.blocks.size} px, {self.blocks.n_full} full, "
+                f"window {self.shape[0]}x{self.shape[1]} at ({self.row0}, {self.col0}), p={self.pixel_size:g})")
+
+
+def _stack(bits: np.ndarray, status: np.ndarray) -> np.ndarray:
+    """The pixels of blocks given by status (stack index, EMPTY or FULL) as a stack."""
+    n = len(bits)
+    ext = np.zeros((n + 2,) + bits.shape[1:], bool)
+    ext[:n] = bits
+    ext[n + 1] = True
+    return ext[np.where(status >= 0, status, np.where(status == EMPTY, n, n + 1))]
+
+
+def bits_in_blocks(mask, brows, bcols, size: int) -> np.ndarray:
+    """A mask's pixels in the given world blocks of `size` pixels, (m, size, size) bool.
+
+    A block mask on blocks of the same size answers block by block; any other
+    mask from its window.
+
+    Examples
+    --------
+    >>> m = GridMask(np.ones((3, 3), bool), 1, 1, 1.0)
+    >>> bits_in_blocks(m, [0], [0], 2)[0].astype(int).tolist()
+    [[0, 0], [0, 1]]
+    """
+    brows, bcols = np.asarray(brows, np.int64), np.asarray(bcols, np.int64)
+    if isinstance(mask, BlockMask) and mask.blocks.size == size:
+        return _stack(mask.bits, mask.blocks.status(brows, bcols))
+    if len(brows) == 0:
+        return np.zeros((0, size, size), bool)
+    r0, c0 = int(brows.min()), int(bcols.min())
+    nr, nc = int(brows.max()) - r0 + 1, int(bcols.max()) - c0 + 1
+    whole = mask.window(r0 * size, c0 * size, (nr * size, nc * size))
+    return whole.reshape(nr, size, nc, size).transpose(0, 2, 1, 3)[brows - r0, bcols - c0]
+
+
+def open_mask(mask, radius: int):
+    """A mask opened by OpenCV's elliptic disc of `radius` pixels (parts thinner than it removed).
+
+    A block mask is opened block by block: blocks near blocks of another kind
+    are held (`BlockGrid.widen`), each with a halo of twice the radius, so its
+    cost follows its boundary. Returns a mask of the same kind, or None when
+    nothing is left.
+
+    Examples
+    --------
+    >>> m = np.zeros((9, 12), bool); m[1:8, 1:6] = True; m[4, 6:11] = True   # a square with a spike
+    >>> open_mask(GridMask(m, 0, 0, 1.0), 1).mask.sum(axis=0).tolist()
+    [0, 5, 7, 7, 7, 5, 1, 0, 0, 0, 0, 0]
+    """
+    import cv2
+    kernel = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * radius + 1, 2 * radius + 1))
+    if not isinstance(mask, BlockMask):
+        opened = cv2.morphologyEx(mask.mask.astype(np.uint8), cv2.MORPH_OPEN, kernel).astype(bool)
+        return GridMask(opened, mask.row0, mask.col0, mask.pixel_size) if opened.any() else None
+    b = mask.blocks.size
+    halo = 2 * radius
+    grid, bits = mask.blocks.widen(mask.bits, False, True, -(-halo // b))
+    image = grid.mosaic(bits.view(np.uint8), halo, np.uint8(0), np.uint8(1))
+    opened = grid.cores(cv2.morphologyEx(image, cv2.MORPH_OPEN, kernel), halo)
+    flat = opened.reshape(len(opened), -1) if len(opened) else opened.reshape(0, 1)
+    some, every = flat.any(axis=1), flat.all(axis=1)
+    keep = some & ~every
+    table = grid.table.copy()
+    on = table >= 0
+    table[on] = np.where(keep, 0, np.where(every, FULL, EMPTY))
+    out = BlockGrid.from_status(b, grid.row0, grid.col0, table == 0, table == FULL)
+    if not len(out) and not out.n_full:
+        return None
+    return BlockMask(opened[keep].view(bool), out, mask.row0, mask.col0, mask.shape, mask.pixel_size)
