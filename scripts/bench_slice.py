@@ -1,4 +1,4 @@
-"""Whole-part slicing to G-code: slicelab against PrusaSlicer on the 1M-facet torus (issue 6).
+"""Whole-part slicing to G-code: slicelab against PrusaSlicer, on a part of real size or the 1M torus.
 
 Same settings on both sides: 0.2 mm layers (first layer too), 0.4 mm lines everywhere, two
 perimeters, 20% rectilinear infill, 3 top and 3 bottom solid layers, no skirt, no minimum shell
@@ -6,11 +6,13 @@ thickness (PrusaSlicer would otherwise add a fourth top layer). Each tool runs a
 command-line subprocess from a cold start (load, slice, write G-code), the two tools taking turns
 `--repeat` times (3 by default; the medians are compared); wall time, peak memory (the
 summed resident size of the process and its children, sampled every 20 ms) and the filament each
-G-code extrudes are printed, with the ratios. slicelab runs at its default 0.05 mm pixel on all
+G-code extrudes are printed, with the ratios, and the G-code itself: bytes, extrusion moves, the
+median extrusion move and the share of extrusion moves under 0.1 mm (a printer's planner stutters
+on streams of tiny moves). Cost: linear in the layers; a layer's cost follows its boundary. slicelab runs at its default 0.05 mm pixel on all
 cores. PrusaSlicer is Debian's `prusa-slicer` (`apt-get install -y prusa-slicer`); the comparison is
 skipped with a note when it is absent. The machine is shared, so timings are noisy.
 
-    python scripts/bench_slice.py [--mesh data/large/torus_1m.stl] [--workers N] [--repeat 3]
+    python scripts/bench_slice.py [--mesh data/pot.stl] [--workers N] [--repeat 3]
 """
 from __future__ import annotations
 
@@ -100,6 +102,24 @@ def extruded_filament(gcode: Path) -> float:
     return total
 
 
+def gcode_stats(path: Path):
+    """Bytes, extrusion moves, their median length (mm) and the share under 0.1 mm, parsed from the file."""
+    import numpy as np
+    text = path.read_text()
+    x = y = 0.0
+    lengths = []
+    for line in text.splitlines():  # every move, to follow the nozzle
+        if not (line.startswith("G1 ") or line.startswith("G0 ")):
+            continue
+        words = dict((w[0], w[1:]) for w in line.split(";")[0].split()[1:] if w)
+        nx, ny = float(words.get("X", x)), float(words.get("Y", y))
+        if float(words.get("E", 0) or 0) > 0 and ("X" in words or "Y" in words):
+            lengths.append(float(np.hypot(nx - x, ny - y)))
+        x, y = nx, ny
+    lengths = np.asarray(lengths) if lengths else np.zeros(1)
+    return len(text.encode()), len(lengths), float(np.median(lengths)), float(np.mean(lengths < 0.1))
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--mesh", type=Path, default=ROOT / "data" / "large" / "torus_1m.stl")
@@ -114,7 +134,8 @@ def main(argv=None) -> int:
     ours = tmp / "slicelab.gcode"
     cmd = [sys.executable, "-m", "slicelab", "slice", str(args.mesh), "-o", str(ours), "--layer-height", str(LAYER),
            "--line-width", str(WIDTH), "--perimeters", str(PERIMETERS), "--infill-density", str(INFILL),
-           "--top-layers", str(SOLID), "--bottom-layers", str(SOLID), "--pixel-size", str(args.pixel_size)]
+           "--top-layers", str(SOLID), "--bottom-layers", str(SOLID), "--pixel-size", str(args.pixel_size),
+           "--skirt-loops", "0", "--bed-size", "1000x1000", "--max-height", "1000"]
     if args.workers:
         cmd += ["--workers", str(args.workers)]
     print(f"{args.mesh.name}: {LAYER} mm layers, {WIDTH} mm lines, {PERIMETERS} perimeters, {INFILL}% infill, "
@@ -146,8 +167,18 @@ def main(argv=None) -> int:
                 runs["PrusaSlicer"].append((t, m))
     print(r.stdout.strip())
     filament = {"slicelab": extruded_filament(ours)}
+    stats = {"slicelab": gcode_stats(ours)}
     if runs["PrusaSlicer"]:
         filament["PrusaSlicer"] = extruded_filament(theirs)
+        stats["PrusaSlicer"] = gcode_stats(theirs)
+    print(f"\n{'tool':<12}{'G-code MB':>10}{'extrusions':>12}{'median mm':>11}{'< 0.1 mm':>10}")
+    for name, (size, n, median, short) in stats.items():
+        print(f"{name:<12}{size / 1e6:>10.2f}{n:>12,d}{median:>11.3f}{100 * short:>9.1f}%")
+    if len(stats) == 2:
+        b = stats["slicelab"][0] / stats["PrusaSlicer"][0]
+        print(f"target: G-code <= 1.3x PrusaSlicer's size: {b:.2f}x  {'PASS' if b <= 1.3 else 'MISS'}; "
+              f"<= 5 % of extrusion moves under 0.1 mm: {100 * stats['slicelab'][3]:.1f} %  "
+              f"{'PASS' if stats['slicelab'][3] <= 0.05 else 'MISS'}")
     print(f"\n{'tool':<12}{'wall s':>9}{'peak MB':>10}{'filament mm':>13}   runs (s)")
     med = {}
     for name, rs in runs.items():
