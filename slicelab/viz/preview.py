@@ -30,7 +30,11 @@ class _Projected:
     def __init__(self, triangles, frame):
         t = np.asarray(triangles, dtype=np.float64).reshape(-1, 3)
         axes = np.stack([frame.u, frame.v, frame.normal]).T
-        self.q = (t @ axes - frame.origin @ axes).astype(np.float32)
+        shift = frame.origin @ axes
+        # Column by column: a BLAS product with an inner size of 3 is slow on millions of rows.
+        self.q = np.empty((len(t), 3), np.float32)
+        for k in range(3):  # the three plane coordinates
+            self.q[:, k] = t[:, 0] * axes[0, k] + t[:, 1] * axes[1, k] + t[:, 2] * axes[2, k] - shift[k]
 
     def bounds(self) -> np.ndarray:
         """(2, 2) plane-coordinate bounds of the corners."""
@@ -53,13 +57,13 @@ def _render(proj: _Projected, normals, frame, extent, shape, block: int) -> np.n
     depth = proj.q[:, 2].reshape(-1, 3)  # larger is nearer the viewer
     best = np.full(rows * cols, -np.inf, dtype=np.float32)
     owner = np.full(rows * cols, -1, dtype=np.int64)
-    # A facet within half a pixel of its first corner is drawn as two points, that corner and its
+    # A facet within a pixel of its first corner is drawn as two points, that corner and its
     # centroid: a dense scan has several facets per pixel, and a point costs a fraction of a facet
     # expanded over its pixels. Larger facets are filled.
     reach = np.abs(x[:, 1] - x[:, 0])
     for a, b in ((x, 2), (y, 1), (y, 2)):
         np.maximum(reach, np.abs(a[:, b] - a[:, 0]), out=reach)
-    small = reach <= 0.5
+    small = reach <= 1.0
     _splat(small, x, y, depth, rows, cols, best, owner)
     big = np.flatnonzero(~small)
     if len(big):
