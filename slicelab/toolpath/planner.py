@@ -87,7 +87,7 @@ class PrintSettings:
     z_lift: float = 0.2
     nozzle_temperature: float = 210.0
     bed_temperature: float = 60.0
-    pixel_size: float = 0.05
+    pixel_size: float = 0.1
     infill_overlap: float = 0.15
     rule: str = "nonzero"
     gcode_resolution: float = 0.0125
@@ -308,7 +308,6 @@ class PrintPlan:
 
 
 # ------------------------------------------------------------------ workers
-_JOB: dict = {}
 _RUN = 10  # layers per task
 
 
@@ -339,16 +338,20 @@ def _skin_masks(k: int, masks: dict, n: int, s: PrintSettings):
     return open_mask(skin, max(1, int(round(0.5 * s.line_width / s.pixel_size))))
 
 
-def _run_chunk(first: int, stop: int):
-    """Toolpaths of layers first..stop-1 (the sections come from the forked parent)."""
+def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, s: PrintSettings):
+    """Toolpaths of layers first..stop-1 of n.
+
+    `window` maps a layer's index to its section for these layers and the
+    `bottom_layers` below and `top_layers` above them (their skins need them);
+    `z_tops` are the tops of these layers. Everything comes as arguments: a
+    pool's worker needs no state from the parent.
+    """
     from .paths import layer_paths
     from .raster import rasterize
     from .simplify import simplify_paths
     from .skirt import skirt_loops, with_skirt
-    sections, z_tops, s = _JOB["sections"], _JOB["z_tops"], _JOB["settings"]
-    n = len(sections)
-    lo, hi = max(0, first - s.bottom_layers), min(n, stop + s.top_layers)
-    rasters = {j: rasterize(sections[j], s.pixel_size, rule=s.rule) for j in range(lo, hi)}
+    sections = window
+    rasters = {j: rasterize(sec, s.pixel_size, rule=s.rule) for j, sec in window.items()}
     masks = {j: (r.combined() if r.tiles else None) for j, r in rasters.items()}
     out = []
     pos = None
@@ -372,7 +375,7 @@ def _run_chunk(first: int, stop: int):
         items = list(lp.ordered())
         if items:
             pos = items[-1][1][-1]
-        out.append((k, replace(lp, z=float(z_tops[k]), perimeters=None), areas))
+        out.append((k, replace(lp, z=float(z_tops[k - first]), perimeters=None), areas))
     return out
 
 
@@ -458,42 +461,45 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     t1 = time.perf_counter()
     n = len(sections)
     workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))
-    _JOB.update(sections=sections, z_tops=bounds[:, 1], settings=s)
+    z_tops = bounds[:, 1]
+
+    def job(a, b):
+        """The arguments of run a..b-1: its layers and the neighbours its skins look at."""
+        lo, hi = max(0, a - s.bottom_layers), min(n, b + s.top_layers)
+        return a, b, n, {j: sections[j] for j in range(lo, hi)}, z_tops[a:b], s
+
     results = []
-    try:
-        # Fixed runs of layers, whatever the number of workers: a run carries the nozzle from
-        # one layer to the next (seams), so the same runs give the same G-code in series.
-        chunks = [(a, min(n, a + _RUN)) for a in range(0, n, _RUN)]
-        if workers == 1 or len(chunks) == 1:
-            bar = _bar(n, progress)
-            for a, b in chunks:
-                results += _run_chunk(a, b)
-                bar.update(b - a)
-            bar.close()
-        else:
-            import multiprocessing as mp
-            from concurrent.futures import ProcessPoolExecutor, as_completed
-            bar = _bar(n, progress)
-            import cv2
-            # The pool's processes fill the cores: OpenCV's own threads in each of them would only
-            # fight over the same cores (thousands of context switches a second). Set in this
-            # process before the fork: calling it in a forked child can deadlock on the thread
-            # pool the child inherited.
-            cv_threads = cv2.getNumThreads()
-            cv2.setNumThreads(1)
-            try:
-                with ProcessPoolExecutor(workers, mp_context=mp.get_context("fork")) as pool:
-                    futures = {pool.submit(_run_chunk, a, b): (a, b)
-                               for a, b in _costliest_first(chunks, sections, s)}
-                    for fut in as_completed(futures):
-                        results += fut.result()
-                        a, b = futures[fut]
-                        bar.update(b - a)
-            finally:
-                cv2.setNumThreads(cv_threads)
-            bar.close()
-    finally:
-        _JOB.clear()
+    # Fixed runs of layers, whatever the number of workers: a run carries the nozzle from
+    # one layer to the next (seams), so the same runs give the same G-code in series.
+    chunks = [(a, min(n, a + _RUN)) for a in range(0, n, _RUN)]
+    if workers == 1 or len(chunks) == 1:
+        bar = _bar(n, progress)
+        for a, b in chunks:
+            results += _run_chunk(*job(a, b))
+            bar.update(b - a)
+        bar.close()
+    else:
+        import multiprocessing as mp
+        from concurrent.futures import ProcessPoolExecutor, as_completed
+        bar = _bar(n, progress)
+        import cv2
+        # The pool's processes fill the cores: OpenCV's own threads in each of them would only
+        # fight over the same cores (thousands of context switches a second). Set in this
+        # process before the fork: calling it in a forked child can deadlock on the thread
+        # pool the child inherited.
+        cv_threads = cv2.getNumThreads()
+        cv2.setNumThreads(1)
+        try:
+            with ProcessPoolExecutor(workers, mp_context=mp.get_context("fork")) as pool:
+                futures = {pool.submit(_run_chunk, *job(a, b)): (a, b)
+                           for a, b in _costliest_first(chunks, sections, s)}
+                for fut in as_completed(futures):
+                    results += fut.result()
+                    a, b = futures[fut]
+                    bar.update(b - a)
+        finally:
+            cv2.setNumThreads(cv_threads)
+        bar.close()
     results.sort(key=lambda r: r[0])
     layers = [r[1] for r in results]
     areas = np.array([r[2] for r in results]).reshape(-1, 4)

@@ -156,7 +156,7 @@ def plot_coverage(paths, raster=None, ax=None, *, pixel_size: float | None = Non
 
     from ..toolpath.paths import coverage_map
     ax = _axes(ax)
-    p = raster.pixel_size if raster is not None else (pixel_size or 0.05)
+    p = raster.pixel_size if raster is not None else (pixel_size or 0.1)
     counts, grid = coverage_map(paths, p)
     img = np.minimum(counts, 3).astype(float)
     if raster is not None:
