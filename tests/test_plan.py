@@ -136,8 +136,10 @@ def test_top_and_bottom_layers_are_solid(cube_plan):
     for layer, z, x0, y0, x1, y1, e, word, role in moves:
         if e > 0 and (x0, y0) != (x1, y1) and role and "infill" in role:
             fill_types.setdefault(layer, set()).add(role)
-    for k in list(range(s.bottom_layers)) + list(range(n - s.top_layers, n)):
+    for k in range(s.bottom_layers):
         assert fill_types[k] == {"Solid infill"}, (k, fill_types[k])
+    for k in range(n - s.top_layers, n):  # skin exposed above: PrusaSlicer's top solid infill
+        assert fill_types[k] == {"Top solid infill"}, (k, fill_types[k])
     for k in range(s.bottom_layers, n - s.top_layers):
         assert fill_types[k] == {"Internal infill"}, (k, fill_types[k])
 
@@ -189,10 +191,10 @@ def test_skins_are_found_by_mask_differences():
     k = 6  # 1.5 - 1.75 mm: the tower stands 2 layers above
     lp = pp.layers[k]
     kinds = np.array(lp.filling_kinds)
-    assert {"solid", "sparse"} <= set(kinds)
+    assert {"top", "sparse"} <= set(kinds)  # the slab's skin is exposed: its top
     for q, kind in zip(lp.filling_segments, kinds):
         line = shapely.LineString(q)
-        if kind == "solid":
+        if kind in ("solid", "top"):
             assert line.intersection(tower.buffer(-0.3)).length < 1e-6
         else:
             assert tower.buffer(0.3).covers(line)

@@ -97,6 +97,7 @@ def gcode_lines(plan, totals: dict | None = None):
     k_e = s.extrusion_multiplier / s.filament_area
     speeds = {"external": s.external_perimeter_speed, "internal": s.perimeter_speed,
               "gap_fill": s.gap_fill_speed, "sparse": s.infill_speed, "solid": s.solid_infill_speed,
+              "top": s.top_solid_infill_speed,
               "skirt": s.first_layer_speed, "brim": s.first_layer_speed}
     feed = {name: round(60 * v) / 60 for name, v in (("travel", s.travel_speed), ("retract", s.retraction_speed))}
     fan_on = f"M106 S{int(255 * s.fan_speed / 100)}\n" if s.fan_speed > 0 else ""  # as PrusaSlicer writes it

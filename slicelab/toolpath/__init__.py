@@ -38,7 +38,7 @@ _WHERE = {"PRINTERS": "printers", "FLAVORS": "printers", "resolve_settings": "pr
           "simplify_paths": "simplify", "simplify_rings": "simplify", "skirt_loops": "skirt",
           "skirt_margin": "skirt", "with_skirt": "skirt", "move_times": "estimate", "format_duration": "estimate",
           "check_bed": "bed", "ISLAND_ROLES": "roles",
-          "ROLES": "roles", "FILLING_KINDS": "roles", "KINDS": "roles", "RoleStyle": "roles", "STYLES": "roles",
+          "ROLES": "roles", "FILLING_KINDS": "roles", "KINDS": "roles", "ROLE_OF": "roles", "RoleStyle": "roles", "STYLES": "roles",
           "LayerPaths": "paths", "layer_paths": "paths", "coverage_map": "paths", "covered_pixels": "paths",
           "PrintSettings": "planner", "PrintPlan": "planner", "plan": "planner", "layer_bounds": "planner",
           "settings_dict": "planner"}
@@ -51,7 +51,7 @@ __all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_con
            "fill_lines", "rectilinear", "line_spacing", "PATTERNS", "fill_pattern", "concentric", "gyroid",
            "GYROID_LENGTH", "simplify_mask", "simplify_path", "simplify_paths", "simplify_rings", "skirt_loops",
            "skirt_margin", "with_skirt", "move_times", "format_duration", "check_bed", "ISLAND_ROLES", "ROLES",
-           "FILLING_KINDS", "KINDS", "RoleStyle", "STYLES", "LayerPaths", "layer_paths", "coverage_map", "covered_pixels", "PrintSettings",
+           "FILLING_KINDS", "KINDS", "ROLE_OF", "RoleStyle", "STYLES", "LayerPaths", "layer_paths", "coverage_map", "covered_pixels", "PrintSettings",
            "PrintPlan", "plan", "layer_bounds", "settings_dict"]
 
 

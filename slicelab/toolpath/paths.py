@@ -34,7 +34,7 @@ from .infill import line_spacing, rectilinear
 from .patterns import fill_pattern
 from .perimeters import Perimeters, layer_perimeters, medial_fill
 from .raster import GridMask, LayerRaster, draw_polylines, rasterize, winding_numbers
-from .roles import ISLAND_ROLES
+from .roles import ISLAND_ROLES, KINDS, ROLE_OF
 from .simplify import simplify_paths, simplify_rings
 
 __all__ = ["LayerPaths", "layer_paths", "coverage_map", "covered_pixels"]
@@ -42,26 +42,23 @@ __all__ = ["LayerPaths", "layer_paths", "coverage_map", "covered_pixels"]
 
 @dataclass(frozen=True, eq=False)
 class LayerPaths:
-    """Toolpaths of one layer, in print order.
+    """Toolpaths of one layer: a table with one row per path, in print order.
+
+    Each row is an extrusion: its kind (a key of `slicelab.toolpath.roles.STYLES`:
+    ``"skirt"``, ``"brim"``, ``"external"``, ``"internal"``, ``"gap_fill"``,
+    ``"sparse"``, ``"solid"``, ``"top"``), its polyline and its width. Row order
+    is print order. The lists of the slicer design (``external_contour_segments``,
+    ``internal_contour_segments``, ``filling_segments``) and the others are
+    views of the table, one per role (`slicelab.toolpath.roles.ROLES`).
 
     Attributes
     ----------
-    external_contour_segments : list of (k, 2) ndarray
-        Closed polylines (first point repeated at the end), one per island's
-        outer boundary.
-    internal_contour_segments : list of (k, 2) ndarray
-        Closed polylines: hole boundaries and inner perimeters.
-    filling_segments : list of (k, 2) ndarray
-        Open polylines of the filling.
-    filling_kinds : tuple of str
-        ``"sparse"`` or ``"solid"`` for each filling polyline.
-    gap_fill_segments : list of (k, 2) ndarray
-        Open polylines along thin walls and gaps between perimeters.
-    gap_fill_widths : list of (k,) ndarray
-        Extrusion width at each gap-fill vertex.
-    sequence : tuple of (str, int)
-        The print order across lists: (role, index) with role one of
-        ``"external", "internal", "gap_fill", "filling"``.
+    kind : tuple of str
+        Each row's kind.
+    paths : tuple of (k, 2) ndarray
+        Each row's polyline (mm); loops are closed (first point repeated).
+    widths : tuple of float or (k,) ndarray
+        Each row's extrusion width (mm), or its width at each vertex (gap fill).
     travel_length : float
         Length of the moves between consecutive paths (mm).
     line_width : float
@@ -71,25 +68,38 @@ class LayerPaths:
         Islands too thin for one perimeter (printed as gap fill only).
     perimeters : Perimeters
         The perimeter stage's result (fields, regions), for plots.
-    skirt_segments, brim_segments : list of (k, 2) ndarray
-        Closed loops around the first layer (`slicelab.toolpath.skirt`),
-        printed before the islands; empty on the other layers.
+
+    Examples
+    --------
+    >>> import slicelab
+    >>> from slicelab.samples import box
+    >>> s = slicelab.section(box((0, 0, 0), (10, 6, 1)), (0, 0, .5), (0, 0, 1))
+    >>> lp = slicelab.layer_paths(s, 0.4, 2, 1.0, pixel_size=0.1)
+    >>> lp.kind
+    ('external', 'internal', 'sparse')
+    >>> len(lp), [len(v) for v in (lp.external_contour_segments, lp.internal_contour_segments,
+    ...                            lp.filling_segments)]
+    (3, [1, 1, 1])
     """
 
-    external_contour_segments: list
-    internal_contour_segments: list
-    filling_segments: list
-    filling_kinds: tuple
-    gap_fill_segments: list
-    gap_fill_widths: list
-    sequence: tuple
+    kind: tuple
+    paths: tuple
+    widths: tuple
     travel_length: float
     line_width: float
     z: float = float("nan")
     thin_walls: int = 0
     perimeters: Perimeters | None = field(default=None, repr=False)
-    skirt_segments: list = field(default_factory=list)
-    brim_segments: list = field(default_factory=list)
+
+    def __post_init__(self):
+        unknown = set(self.kind) - set(KINDS)
+        if unknown:
+            raise ValueError(f"unknown path kinds {sorted(unknown)}; expected some of {KINDS}")
+        if not len(self.kind) == len(self.paths) == len(self.widths):
+            raise ValueError("kind, paths and widths need one entry per row")
+
+    def __len__(self) -> int:
+        return len(self.kind)
 
     def __repr__(self) -> str:
         return (f"LayerPaths(z={self.z:g}, {len(self.external_contour_segments)} external, "
@@ -97,42 +107,95 @@ class LayerPaths:
                 f"{len(self.gap_fill_segments)} gap fill, extrusion {self.extrusion_length:.1f} mm, "
                 f"travel {self.travel_length:.1f} mm)")
 
+    @classmethod
+    def from_rows(cls, rows, **kw) -> "LayerPaths":
+        """A table from (kind, path, width) rows in print order; `kw` fills the other fields."""
+        rows = list(rows)
+        return cls(tuple(r[0] for r in rows), tuple(r[1] for r in rows), tuple(r[2] for r in rows), **kw)
+
+    def rows(self, kinds=None):
+        """Yield (kind, polyline, width) in print order, of the given kinds only if given."""
+        for k, q, w in zip(self.kind, self.paths, self.widths):
+            if kinds is None or k in kinds:
+                yield k, q, w
+
+    def role_of(self, kind: str) -> str:
+        """The role (`slicelab.toolpath.roles.ROLES`) of a kind: filling kinds are ``"filling"``."""
+        return ROLE_OF[kind]
+
     def role_list(self, role: str) -> list:
-        """The paths of one role (one of `slicelab.toolpath.roles.ROLES`)."""
-        return {"external": self.external_contour_segments, "internal": self.internal_contour_segments,
-                "gap_fill": self.gap_fill_segments, "filling": self.filling_segments,
-                "skirt": self.skirt_segments, "brim": self.brim_segments}[role]
+        """The paths of one role (one of `slicelab.toolpath.roles.ROLES`), in print order."""
+        return [q for k, q in zip(self.kind, self.paths) if ROLE_OF[k] == role]
+
+    @property
+    def external_contour_segments(self) -> list:
+        """Closed polylines, one per island's outer boundary."""
+        return self.role_list("external")
+
+    @property
+    def internal_contour_segments(self) -> list:
+        """Closed polylines: hole boundaries and inner perimeters."""
+        return self.role_list("internal")
+
+    @property
+    def filling_segments(self) -> list:
+        """Polylines of the filling (sparse, solid and top skin)."""
+        return self.role_list("filling")
+
+    @property
+    def filling_kinds(self) -> tuple:
+        """The kind of each of `filling_segments`."""
+        return tuple(k for k in self.kind if ROLE_OF[k] == "filling")
+
+    @property
+    def gap_fill_segments(self) -> list:
+        """Open polylines along thin walls and gaps between perimeters."""
+        return self.role_list("gap_fill")
+
+    @property
+    def gap_fill_widths(self) -> list:
+        """The width at each vertex of each of `gap_fill_segments`."""
+        return [w for k, w in zip(self.kind, self.widths) if k == "gap_fill"]
+
+    @property
+    def skirt_segments(self) -> list:
+        """The skirt's loops (first layer only)."""
+        return self.role_list("skirt")
+
+    @property
+    def brim_segments(self) -> list:
+        """The brim's loops (first layer only)."""
+        return self.role_list("brim")
+
+    @property
+    def sequence(self) -> tuple:
+        """Print order as (role, index into that role's list) pairs."""
+        seen: dict = {}
+        out = []
+        for k in self.kind:
+            r = ROLE_OF[k]
+            out.append((r, seen.get(r, 0)))
+            seen[r] = seen.get(r, 0) + 1
+        return tuple(out)
 
     def ordered(self):
-        """Yield (role, polyline, widths) in print order; widths is a scalar or per-vertex array."""
-        for role, i in self.sequence:
-            w = self.gap_fill_widths[i] if role == "gap_fill" else self.line_width
-            yield role, self.role_list(role)[i], w
+        """Yield (role, polyline, width) in print order; width is a scalar or per-vertex array."""
+        for k, q, w in zip(self.kind, self.paths, self.widths):
+            yield ROLE_OF[k], q, w
 
     def kinds(self) -> list[str]:
-        """The kind of each path in print order: its role, or ``"sparse"`` / ``"solid"`` for filling.
-
-        The keys of `slicelab.toolpath.roles.STYLES`, in step with `ordered`.
-
-        Examples
-        --------
-        >>> import slicelab
-        >>> from slicelab.samples import box
-        >>> s = slicelab.section(box((0, 0, 0), (10, 6, 1)), (0, 0, .5), (0, 0, 1))
-        >>> slicelab.layer_paths(s, 0.4, 2, 1.0, pixel_size=0.1).kinds()
-        ['external', 'internal', 'sparse']
-        """
-        return [self.filling_kinds[i] if role == "filling" else role for role, i in self.sequence]
+        """The kind of each path in print order (the keys of `slicelab.toolpath.roles.STYLES`)."""
+        return list(self.kind)
 
     @property
     def extrusion_length(self) -> float:
         """Total length of all extrusions (mm)."""
-        return float(sum(_length(p) for _, p, _ in self.ordered()))
+        return float(sum(_length(p) for p in self.paths))
 
     def extruded_area(self) -> float:
         """Sum of length x width over the extrusions (mm^2): the material laid per unit height."""
         total = 0.0
-        for _, p, w in self.ordered():
+        for p, w in zip(self.paths, self.widths):
             seg = np.hypot(*np.diff(p, axis=0).T)
             ww = np.full(len(p), w) if np.isscalar(w) else np.asarray(w)
             total += float(np.sum(seg * 0.5 * (ww[:-1] + ww[1:])))
@@ -166,7 +229,7 @@ def _island_of(points: np.ndarray, exteriors: list, areas: np.ndarray) -> np.nda
 def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_density: float = 0.2,
                 angle: float = 45.0, pixel_size: float = 0.1, *, layer_index: int = 0,
                 rule: str = "nonzero", overlap: float = 0.15, solid: GridMask | None = None,
-                solid_angle: float | None = None, start=None, raster: LayerRaster | None = None,
+                solid_angle: float | None = None, top=None, start=None, raster: LayerRaster | None = None,
                 tolerance: float | None = None, pattern: str = "rectilinear",
                 resolution: float = 0.0125) -> LayerPaths:
     """The toolpaths of one layer: perimeters, gap fill and filling, in print order.
@@ -195,6 +258,9 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
         `solid_angle`: the print planner passes top and bottom skins here.
     solid_angle : float, optional
         Angle of solid filling; default the layer's filling angle.
+    top : GridMask or BlockMask, optional
+        The part of `solid` that the layer above leaves exposed (top skin): solid
+        lines mostly inside it are of kind ``"top"``.
     start : (2,) array_like, optional
         Nozzle position before the layer (default: the layer's lower-left corner).
     raster : LayerRaster, optional
@@ -251,7 +317,7 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
         solid_paths = rectilinear(_simplified(per.solid, limit), w,
                                   fill_angle if solid_angle is None else solid_angle)
         fills += solid_paths
-        kinds += ["solid"] * len(solid_paths)
+        kinds += _skin_kinds(solid_paths, top)
 
     gap_fill, gap_widths = list(per.gap_fill), list(per.gap_widths)
     if per.solid or (infill_density >= 1 and per.fill):
@@ -295,7 +361,7 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
 
     lo = section.bounds()[0] if len(section.segments) else np.zeros(2)
     pos = np.asarray(lo if start is None else start, np.float64)
-    ext_out, int_out, gap_out, gap_w, fill_out, fill_kinds, seq = [], [], [], [], [], [], []
+    out_kind, out_paths, out_w = [], [], []  # the table's rows, in print order
     travel = 0.0
     first = True
 
@@ -344,8 +410,7 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
         for j in g["external"]:
             path = _closed_from(level0[j].exterior, pos)
             go(path)
-            seq.append(("external", len(ext_out)))
-            ext_out.append(path)
+            out_kind.append("external"), out_paths.append(path), out_w.append(w)
         todo = sorted(g["internal"], key=lambda j: loops_internal[j][0])
         while todo:  # level by level, nearest loop first
             level = loops_internal[todo[0]][0]
@@ -354,8 +419,7 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
             todo.remove(j)
             path = _closed_from(loops_internal[j][1], pos)
             go(path)
-            seq.append(("internal", len(int_out)))
-            int_out.append(path)
+            out_kind.append("internal"), out_paths.append(path), out_w.append(w)
         for role, source in (("gap_fill", gap_fill), ("filling", fills)):
             todo = list(g[role])
             while todo:  # nearest end first
@@ -365,21 +429,47 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
                 path = _closed_from(source[j][:-1], pos) if path is None else path
                 go(path)
                 if role == "gap_fill":
-                    seq.append(("gap_fill", len(gap_out)))
-                    gap_out.append(path)
-                    gap_w.append(gap_widths[j][::-1] if how == "end" else gap_widths[j])
+                    out_kind.append("gap_fill"), out_paths.append(path)
+                    out_w.append(gap_widths[j][::-1] if how == "end" else gap_widths[j])
                 else:
-                    seq.append(("filling", len(fill_out)))
-                    fill_out.append(path)
-                    fill_kinds.append(kinds[j])
+                    out_kind.append(kinds[j]), out_paths.append(path), out_w.append(w)
     # Clean paths: each simplified to the resolution (ends, seams and corners stay, so the
     # travel between paths is unchanged).
-    n_ext, n_int = len(ext_out), len(int_out)
-    simple = simplify_paths(ext_out + int_out + fill_out, resolution)
-    gap_out, gap_w = simplify_paths(gap_out, resolution, gap_w)
-    return LayerPaths(simple[:n_ext], simple[n_ext:n_ext + n_int], simple[n_ext + n_int:], tuple(fill_kinds),
-                      gap_out, gap_w, tuple(seq), travel, w, section.z if hasattr(section, "z") else float("nan"),
-                      per.thin_walls, per)
+    gap = np.array([k == "gap_fill" for k in out_kind], bool)
+    simple = list(out_paths)
+    for rows, widths in ((np.flatnonzero(~gap), None), (np.flatnonzero(gap), [out_w[i] for i in np.flatnonzero(gap)])):
+        if widths is None:
+            got = simplify_paths([out_paths[i] for i in rows], resolution)
+        else:
+            got, widths = simplify_paths([out_paths[i] for i in rows], resolution, widths)
+            for i, gw in zip(rows, widths):
+                out_w[i] = gw
+        for i, q in zip(rows, got):
+            simple[i] = q
+    return LayerPaths(tuple(out_kind), tuple(simple), tuple(out_w), travel, w,
+                      section.z if hasattr(section, "z") else float("nan"), per.thin_walls, per)
+
+
+def _skin_kinds(paths: list, top) -> list:
+    """``"top"`` for each solid path whose length lies mostly in the `top` mask, else ``"solid"``.
+
+    Each segment is judged at its midpoint (its ends lie on the region's limit).
+    """
+    if top is None or not paths:
+        return ["solid"] * len(paths)
+    owner = np.repeat(np.arange(len(paths)), [max(len(q) - 1, 0) for q in paths])
+    a = np.concatenate([q[:-1] for q in paths])
+    b = np.concatenate([q[1:] for q in paths])
+    mid, length = 0.5 * (a + b) / top.pixel_size, np.hypot(*(b - a).T)
+    rows, cols = np.round(mid[:, 1]).astype(np.int64), np.round(mid[:, 0]).astype(np.int64)
+    if hasattr(top, "at"):
+        inside = top.at(rows, cols)
+    else:
+        r0, c0 = rows.min(), cols.min()
+        inside = top.window(r0, c0, (rows.max() - r0 + 1, cols.max() - c0 + 1))[rows - r0, cols - c0]
+    on_top = np.bincount(owner, length * inside, len(paths))
+    total = np.bincount(owner, length, len(paths))
+    return ["top" if t > 0.5 * n else "solid" for t, n in zip(on_top, total)]
 
 
 def _simplified(polygons: list, tolerance: float) -> list:

@@ -78,6 +78,7 @@ class PrintSettings:
     external_perimeter_speed: float = 25.0
     infill_speed: float = 80.0
     solid_infill_speed: float = 60.0
+    top_solid_infill_speed: float = 40.0
     gap_fill_speed: float = 20.0
     first_layer_speed: float = 20.0
     travel_speed: float = 150.0
@@ -114,7 +115,7 @@ class PrintSettings:
         from .patterns import PATTERNS
         positive = ("layer_height", "first_layer_height", "line_width", "nozzle_diameter", "filament_diameter",
                     "extrusion_multiplier", "perimeter_speed", "external_perimeter_speed", "infill_speed",
-                    "solid_infill_speed", "gap_fill_speed", "first_layer_speed", "travel_speed",
+                    "solid_infill_speed", "top_solid_infill_speed", "gap_fill_speed", "first_layer_speed", "travel_speed",
                     "retraction_speed", "pixel_size", "acceleration", "jerk", "max_height")
         for name in positive:
             v = getattr(self, name)
@@ -312,7 +313,8 @@ _RUN = 10  # layers per task
 
 
 def _skin_masks(k: int, masks: dict, n: int, s: PrintSettings):
-    """Top and bottom skin of layer k: its material missing from any of the layers above/below.
+    """Skins of layer k: its material missing from any of the `top_layers` above or the
+    `bottom_layers` below, as (solid, top): all skin, and the part of it exposed above.
 
     Layer masks are held by blocks along their boundaries (`slicelab.toolpath.masks.BlockMask`):
     the differences and the opening work block by block, so their cost follows the boundaries.
@@ -320,8 +322,8 @@ def _skin_masks(k: int, masks: dict, n: int, s: PrintSettings):
     from .masks import open_mask
     mine = masks[k]
     if mine is None:
-        return None
-    skin = None
+        return None, None
+    parts = []
     for rng in (range(k + 1, k + 1 + s.top_layers), range(k - 1, k - 1 - s.bottom_layers, -1)):
         covered = mine
         for j in rng:  # over the few neighbouring layers
@@ -330,12 +332,14 @@ def _skin_masks(k: int, masks: dict, n: int, s: PrintSettings):
                 covered = None
                 break
             covered = covered & other
-        part = mine if covered is None else mine - covered
-        skin = part if skin is None else skin | part
+        parts.append(mine if covered is None else mine - covered)
+    top, bottom = parts
+    skin = top | bottom
     if skin.area == 0:
-        return None
+        return None, None
     # Slivers narrower than a line width (a sloped wall's edge) are the perimeters' business.
-    return open_mask(skin, max(1, int(round(0.5 * s.line_width / s.pixel_size))))
+    radius = max(1, int(round(0.5 * s.line_width / s.pixel_size)))
+    return open_mask(skin, radius), (open_mask(top, radius) if top.area > 0 else None)
 
 
 def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, s: PrintSettings):
@@ -356,7 +360,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     out = []
     pos = None
     for k in range(first, stop):  # over layers
-        solid = _skin_masks(k, masks, n, s)
+        solid, top = _skin_masks(k, masks, n, s)
         parity = k % 2
         solid_angle = (s.infill_angle + 90.0 * parity) if s.solid_angle is None else s.solid_angle
         skirt = brim = ()
@@ -368,7 +372,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
                 pos = (list(skirt) + list(brim))[-1][-1]
         lp = layer_paths(sections[k], s.line_width, s.n_perimeters, s.infill_density, s.infill_angle,
                          s.pixel_size, layer_index=k, rule=s.rule, overlap=s.infill_overlap, solid=solid,
-                         solid_angle=solid_angle, start=pos, raster=rasters[k], pattern=s.infill_pattern,
+                         solid_angle=solid_angle, top=top, start=pos, raster=rasters[k], pattern=s.infill_pattern,
                          resolution=s.gcode_resolution)
         areas = _areas(lp, rasters[k], solid, s)
         lp = with_skirt(lp, skirt, brim)

@@ -2,8 +2,9 @@
 
 A layer's paths come in six lists (`ROLES`): the first layer's skirt and brim,
 printed first, then each island's four (`ISLAND_ROLES`, in the order an
-island prints them). Filling is sparse or solid, so an extrusion is one of
-seven kinds (`KINDS`). `STYLES` names each kind once for every output: the
+island prints them). Filling is sparse, solid, or top skin (solid filling
+that the layer above leaves exposed), so an extrusion is one of eight kinds
+(`KINDS`), each with its role (`ROLE_OF`). `STYLES` names each kind once for every output: the
 ``;TYPE:`` word PrusaSlicer's G-code viewer reads (PrusaSlicer writes skirt and
 brim alike as ``Skirt/Brim``), that viewer's colour (used in the per-layer
 SVGs) and the colour on white matplotlib axes (gap fill, white in the viewer,
@@ -13,23 +14,27 @@ Examples
 --------
 >>> STYLES["external"].gcode_type, STYLES["solid"].colour, STYLES["brim"].gcode_type
 ('External perimeter', '#8f1fd6', 'Skirt/Brim')
->>> set(STYLES) == set(KINDS)
+>>> set(STYLES) == set(KINDS) == set(ROLE_OF)
 True
+>>> ROLE_OF["top"], ROLE_OF["external"]
+('filling', 'external')
 """
 from __future__ import annotations
 
 from typing import NamedTuple
 
-__all__ = ["ROLES", "ISLAND_ROLES", "FILLING_KINDS", "KINDS", "RoleStyle", "STYLES"]
+__all__ = ["ROLES", "ISLAND_ROLES", "FILLING_KINDS", "KINDS", "ROLE_OF", "RoleStyle", "STYLES"]
 
 #: The path lists of an island, in the order it prints them.
 ISLAND_ROLES = ("external", "internal", "gap_fill", "filling")
 #: The path lists of a layer: the skirt and brim (first layer only) go before the islands.
 ROLES = ("skirt", "brim", *ISLAND_ROLES)
 #: What a filling path is.
-FILLING_KINDS = ("sparse", "solid")
+FILLING_KINDS = ("sparse", "solid", "top")
 #: The kind of an extrusion: its role, with filling split into its kinds.
 KINDS = ("skirt", "brim", "external", "internal", "gap_fill", *FILLING_KINDS)
+#: The role of each kind: filling kinds are filling, the others their own role.
+ROLE_OF = {k: ("filling" if k in FILLING_KINDS else k) for k in KINDS}
 
 
 class RoleStyle(NamedTuple):
@@ -58,4 +63,5 @@ STYLES = {
     "gap_fill": RoleStyle("Gap fill", "#ffffff", "#1c7ed6"),
     "sparse": RoleStyle("Internal infill", "#b02e26", "#b02e26"),
     "solid": RoleStyle("Solid infill", "#8f1fd6", "#8f1fd6"),
+    "top": RoleStyle("Top solid infill", "#f04040", "#e03131"),
 }

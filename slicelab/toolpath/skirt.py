@@ -129,8 +129,8 @@ def with_skirt(paths, skirt: list, brim: list):
     Returns
     -------
     LayerPaths
-        The same islands, with ``("skirt", i)`` and ``("brim", i)`` at the
-        start of its sequence and the travel to the islands counted.
+        The same islands, with the skirt's and brim's rows first and the
+        travel to the islands counted.
 
     Examples
     --------
@@ -141,10 +141,12 @@ def with_skirt(paths, skirt: list, brim: list):
     >>> lp.kinds()[:3]
     ['skirt', 'external', 'internal']
     """
-    seq = tuple([("skirt", i) for i in range(len(skirt))] + [("brim", i) for i in range(len(brim))])
-    if not seq:
+    if not (skirt or brim):
         return paths
-    out = replace(paths, skirt_segments=list(skirt), brim_segments=list(brim), sequence=seq + paths.sequence)
-    items = [q for _, q, _ in out.ordered()]
+    w = paths.line_width
+    rows = [("skirt", q, w) for q in skirt] + [("brim", q, w) for q in brim]
+    out = replace(paths, kind=tuple(r[0] for r in rows) + paths.kind, paths=tuple(r[1] for r in rows) + paths.paths,
+                  widths=tuple(r[2] for r in rows) + paths.widths)
+    items = out.paths
     travel = float(sum(np.hypot(*(b[0] - a[-1])) for a, b in zip(items, items[1:])))
     return replace(out, travel_length=travel)
