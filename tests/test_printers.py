@@ -93,3 +93,25 @@ def test_slice_refuses_an_open_mesh_with_what_is_wrong(tmp_path):
     r = run("slice", tmp_path / "holes.stl", "-o", tmp_path / "p.gcode")
     assert r.returncode == 2 and "not watertight" in r.stderr and "open" in r.stderr
     assert r.stderr.count("\n") == 1 and not (tmp_path / "p.gcode").exists()
+
+
+def test_settings_come_in_groups_and_files_keep_them(tmp_path):
+    from slicelab.toolpath import GROUPS, Motion, settings_dict, setting_names
+    s = PrintSettings(layer_height=0.3, motion=Motion(travel_speed=100.0))
+    assert s.extrusion.layer_height == s.layer_height == 0.3 and s.motion.travel_speed == 100.0
+    assert set(settings_dict(s)) == set(setting_names())
+    assert sum(len(g.__dataclass_fields__) for g in GROUPS.values()) == len(setting_names())
+    text = format_config(s)
+    assert all(f"[{g}]" in text for g in GROUPS) and "[settings]" not in text
+    f = tmp_path / "grouped.toml"
+    f.write_text(text)
+    assert PrintSettings(**resolve_settings(config=f)) == s
+    f.write_text("[extrusion]\nlayer_height = 0.1\n[infill]\ninfill_density = 0.5\n")
+    again = PrintSettings(**resolve_settings(config=f))
+    assert (again.layer_height, again.infill_density) == (0.1, 0.5)
+    for bad, words in (("[extrusion]\nspeed = 3\n", "not a print setting"), ("[nozzle]\nx = 1\n", "unknown table")):
+        f.write_text(bad)
+        with pytest.raises(ValueError, match=words):
+            resolve_settings(config=f)
+    with pytest.raises(TypeError, match="unknown settings"):
+        PrintSettings(layer_hieght=0.2)

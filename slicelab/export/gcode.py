@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from ..toolpath.estimate import format_duration, move_times
-from ..toolpath.planner import settings_dict
+from ..toolpath.settings import settings_dict
 from ..toolpath.printers import MARLIN_END, MARLIN_START, render_gcode
 from ..toolpath.roles import STYLES
 from .files import atomic_open

@@ -179,10 +179,8 @@ PARTITION = Job(
 
 # ----------------------------------------------------------------------- slice
 def _setting_names() -> set:
-    from dataclasses import fields
-
-    from ..toolpath import PrintSettings
-    return {f.name for f in fields(PrintSettings)}
+    from ..toolpath import setting_names
+    return set(setting_names())
 
 
 def _size(name: str, value) -> list:
@@ -199,11 +197,9 @@ def _slice_parameters(printer=None, config=None, workers=None, preview: bool = F
     bed_size as ``"250x210"`` or two numbers); printer: a bundled profile's name; config: a TOML
     settings file; workers: processes (None: all cores); preview: layer SVGs and a PNG; repair:
     `slicelab.repair` the mesh first."""
-    from dataclasses import fields
-
-    from ..toolpath import PrintSettings
+    from ..toolpath import PrintSettings, setting_names
     from ..toolpath.printers import resolve_settings
-    known = {f.name for f in fields(PrintSettings)}
+    known = set(setting_names())
     for name in settings:
         if name not in known:
             raise ParameterError(name, "is not a print setting (see slicelab.toolpath.PrintSettings)")

@@ -40,8 +40,11 @@ _WHERE = {"PRINTERS": "printers", "FLAVORS": "printers", "resolve_settings": "pr
           "check_bed": "bed", "ISLAND_ROLES": "roles",
           "ROLES": "roles", "FILLING_KINDS": "roles", "KINDS": "roles", "ROLE_OF": "roles", "RoleStyle": "roles", "STYLES": "roles",
           "LayerPaths": "paths", "layer_paths": "paths", "coverage_map": "paths", "covered_pixels": "paths",
-          "PrintSettings": "planner", "PrintPlan": "planner", "plan": "planner", "layer_bounds": "planner",
-          "settings_dict": "planner"}
+          "PrintPlan": "planner", "plan": "planner", "layer_bounds": "planner",
+          "PrintSettings": "settings", "settings_dict": "settings", "setting_names": "settings",
+          "Extrusion": "settings", "Infill": "settings", "Skins": "settings", "Motion": "settings",
+          "Cooling": "settings", "Adhesion": "settings", "Machine": "settings", "Raster": "settings",
+          "GROUPS": "settings"}
 
 
 __all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_config", "render_gcode", "MARLIN_START", "MARLIN_END", "GridMask", "BlockMask", "bits_in_blocks", "open_mask", "LayerRaster", "RasterContours", "rasterize", "winding_numbers", "raster_hierarchy",
@@ -52,7 +55,8 @@ __all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_con
            "GYROID_LENGTH", "simplify_mask", "simplify_path", "simplify_paths", "simplify_rings", "skirt_loops",
            "skirt_margin", "with_skirt", "move_times", "format_duration", "check_bed", "ISLAND_ROLES", "ROLES",
            "FILLING_KINDS", "KINDS", "ROLE_OF", "RoleStyle", "STYLES", "LayerPaths", "layer_paths", "coverage_map", "covered_pixels", "PrintSettings",
-           "PrintPlan", "plan", "layer_bounds", "settings_dict"]
+           "PrintPlan", "plan", "layer_bounds", "settings_dict", "setting_names", "Extrusion", "Infill", "Skins",
+           "Motion", "Cooling", "Adhesion", "Machine", "Raster", "GROUPS"]
 
 
 __getattr__, __dir__ = attach(__name__, _WHERE, globals())

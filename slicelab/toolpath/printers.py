@@ -3,11 +3,13 @@
 A profile is a set of `PrintSettings` values describing a machine: bed size,
 height, nozzle and filament, G-code flavour, start and end G-code, the
 temperatures it allows. A settings file names a profile and overrides any
-field::
+field, in its group's table (as ``slicelab slice --print-config`` writes it)
+or in one ``[settings]`` table::
 
     printer = "generic-marlin-220"
-    [settings]
+    [extrusion]
     layer_height = 0.15
+    [infill]
     infill_density = 0.25
 
 Values are resolved profile < file < command line. Start and end G-code may
@@ -71,8 +73,19 @@ def read_config(path) -> dict:
         raise ValueError(f"{p}: cannot be read ({exc.strerror or exc})") from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
         raise ValueError(f"{p}: not a TOML settings file ({exc})") from None
-    out = {k: v for k, v in data.items() if k != "settings" and not isinstance(v, dict)}
-    out.update(data.get("settings", {}))
+    from .settings import GROUPS, setting_names
+    out = {k: v for k, v in data.items() if not isinstance(v, dict)}
+    known = set(setting_names())
+    for table, values in data.items():
+        if not isinstance(values, dict):
+            continue
+        if table != "settings" and table not in GROUPS:
+            raise ValueError(f"{p}: unknown table [{table}] (expected [settings] or one of "
+                             f"{', '.join(f'[{g}]' for g in GROUPS)})")
+        for k, v in values.items():
+            if k not in known:
+                raise ValueError(f"{p}: [{table}] {k} is not a print setting")
+            out[k] = v
     return out
 
 
@@ -97,8 +110,26 @@ def resolve_settings(*, printer: str | None = None, config=None, **given) -> dic
 
 
 def format_config(settings) -> str:
-    """The settings in force as a TOML settings file (``slicelab slice --print-config``)."""
+    """The settings in force as a TOML settings file, a table per group (``slicelab slice --print-config``).
+
+    Examples
+    --------
+    >>> from slicelab.toolpath import PrintSettings
+    >>> print(format_config(PrintSettings()).split("\\n[infill]")[0])
+    [extrusion]
+    layer_height = 0.2
+    first_layer_height = 0.2
+    line_width = 0.4
+    n_perimeters = 2
+    nozzle_diameter = 0.4
+    filament_diameter = 1.75
+    extrusion_multiplier = 1.0
+    gcode_resolution = 0.0125
+    <BLANKLINE>
+    """
     from dataclasses import asdict
+
+    from .settings import GROUPS
 
     def value(v):
         if isinstance(v, str):
@@ -108,8 +139,12 @@ def format_config(settings) -> str:
         if isinstance(v, (tuple, list)):
             return "[" + ", ".join(value(x) for x in v) + "]"
         return repr(v)
-    lines = ["[settings]"] + [f"{k} = {value(v)}" for k, v in asdict(settings).items() if v is not None]
-    return "\n".join(lines) + "\n"
+
+    lines = []
+    for g in GROUPS:
+        lines += [f"[{g}]"] + [f"{k} = {value(v)}" for k, v in asdict(getattr(settings, g)).items()
+                               if v is not None] + [""]
+    return "\n".join(lines)
 
 
 def render_gcode(template: str, settings) -> str:
@@ -121,8 +156,8 @@ def render_gcode(template: str, settings) -> str:
     >>> render_gcode("M190 S{bed_temperature:.0f} ; {bed_size_x:g} mm\\n", PrintSettings())
     'M190 S60 ; 250 mm\\n'
     """
-    from dataclasses import asdict
-    fields = asdict(settings)
+    from .settings import settings_dict
+    fields = settings_dict(settings)
     fields["bed_size_x"], fields["bed_size_y"] = settings.bed_size
     try:
         text = template.format(**fields)
