@@ -2,7 +2,7 @@
 
     python scripts/make_data.py            # data/*.stl if missing
     python scripts/make_data.py --force    # rewrite them
-    python scripts/make_data.py --large    # also data/large/: 1M and 5M tori, 5M pot (git-ignored)
+    python scripts/make_data.py --large    # also data/large/: 1M and 5M tori, 5M pot, a 100 mm block (git-ignored)
 """
 from __future__ import annotations
 
@@ -29,7 +29,24 @@ SMALL = {
     "staircase": lambda: samples.staircase(8, 2.0, 10.0, 0.2, 2),
 }
 
+def block_part():
+    """A 96 x 96 x 72 mm CAD-like part of 1 mm cells: a plate with four through holes, two
+    bosses, two 1 mm walls and a dome (a 100 mm-class part for the slicing benchmark)."""
+    import numpy as np
+    x, y, z = np.meshgrid(np.arange(96) + 0.5, np.arange(96) + 0.5, np.arange(72) + 0.5, indexing="ij")
+    occ = z < 20  # the plate
+    for cx, cy in ((12, 12), (84, 12), (12, 84), (84, 84)):  # holes through it
+        occ &= np.hypot(x - cx, y - cy) > 5
+    for cx, cy in ((20, 48), (76, 48)):  # bosses
+        occ |= (np.hypot(x - cx, y - cy) < 8) & (z < 50)
+    occ |= (np.abs(x - 48.5) < 0.6) & (np.abs(y - 14) < 12) & (z < 60)  # thin walls, one cell (1 mm)
+    occ |= (np.abs(y - 82.5) < 0.6) & (np.abs(x - 48) < 12) & (z < 60)
+    occ |= np.hypot(np.hypot(x - 48, y - 48), z - 20) < 28  # the dome
+    return samples.voxels(occ)
+
+
 LARGE = {
+    "block_100": block_part,
     "torus_1m": lambda: samples.torus(30.0, 10.0, 1000, 500),
     "torus_5m": lambda: samples.torus(30.0, 10.0, 2500, 1000),
     "pot_5m": lambda: samples.pot(1000, 1250),
