@@ -129,7 +129,7 @@ class PrintPlan:
 
 
 # ------------------------------------------------------------------ workers
-_RUN = 10  # layers per task
+_RUN = 20  # layers per task: each rasterises its skins' neighbours too, so not fewer
 
 
 def _skin_masks(k: int, masks: dict, n: int, s: PrintSettings):
@@ -338,22 +338,18 @@ def _costliest_first(chunks: list, sections: list, s: PrintSettings) -> list:
     """The runs of layers in the order to hand them out: the costliest first, so that no worker
     is left with a big one at the end while the others idle (longest processing time first).
 
-    A run's cost is taken as its layers' pixel area (every raster pass is over the pixels) and
-    their boundary length (the exact distances are along it); the runs with solid skins (the
-    first and the last) fill every pixel with lines, and go first.
+    A run's cost is taken as its layers' boundary length: pixels are held only along the
+    boundaries, so that is what a layer's work follows. The runs with solid skins (the first
+    and the last) fill their whole area with lines, and go first.
     """
     n = len(sections)
 
     def cost(chunk):
         a, b = chunk
         skin = a < s.bottom_layers or b > n - s.top_layers
-        work = 0.0
-        for sec in sections[a:b]:  # over the run's layers, ten
-            if len(sec.segments):
-                lo, hi = sec.segments.min(axis=(0, 1)), sec.segments.max(axis=(0, 1))
-                length = np.hypot(*(sec.segments[:, 1] - sec.segments[:, 0]).T).sum()
-                work += (hi - lo).prod() / s.pixel_size ** 2 + 50 * length / s.pixel_size
-        return (skin, work)
+        length = sum(float(np.hypot(*(sec.segments[:, 1] - sec.segments[:, 0]).T).sum())
+                     for sec in sections[a:b] if len(sec.segments))  # over the run's layers
+        return (skin, length)
 
     return sorted(chunks, key=cost, reverse=True)
 
