@@ -39,7 +39,8 @@ __all__ = ["write_gcode", "gcode_lines", "write_svgs"]
 
 
 def _fmt(xy: np.ndarray, e: np.ndarray) -> str:
-    return "\n".join(f"G1 X{x:.3f} Y{y:.3f} E{d:.5f}" for (x, y), d in zip(xy.tolist(), e.tolist()))
+    # One %-format over the whole path: about twice as fast as a line at a time.
+    return ("G1 X%.3f Y%.3f E%.5f\n" * len(e) % tuple(np.column_stack([xy, e]).ravel().tolist()))[:-1]
 
 
 class _Moves:
@@ -50,20 +51,24 @@ class _Moves:
         self.ends, self.e, self.feed = [], [], []
 
     def add(self, xyz, e, feed: float) -> None:
-        """Moves to the points `xyz` (one or (k, 3)), feeding `e` (each), at `feed` mm/s."""
-        xyz = np.round(np.asarray(xyz, np.float64).reshape(-1, 3), 3)
+        """Moves to the points `xyz` (one or (k, 3)), feeding `e` (each), at `feed` mm/s.
+
+        Kept as given: the rounding is done once per stretch, in `seconds`.
+        """
+        xyz = np.asarray(xyz, np.float64).reshape(-1, 3)
         self.ends.append(xyz)
-        self.e.append(np.broadcast_to(np.round(np.asarray(e, np.float64), 5), (len(xyz),)))
+        self.e.append(e if np.ndim(e) else np.full(len(xyz), float(e)))
         self.feed.append(np.full(len(xyz), feed))
-        self.pos = xyz[-1]
+        self.pos = np.round(xyz[-1], 3)
 
     def seconds(self, s) -> float:
         """Time of the moves added since the last call."""
         if not self.ends:
             return 0.0
-        ends = np.concatenate(self.ends)
+        ends = np.round(np.concatenate(self.ends), 3)
         starts = np.vstack([self.start, ends[:-1]])
-        t = move_times(starts, ends, np.concatenate(self.e), np.concatenate(self.feed),
+        e = np.round(np.concatenate(self.e).astype(np.float64), 5)
+        t = move_times(starts, ends, e, np.concatenate(self.feed),
                        acceleration=s.acceleration, jerk=s.jerk)
         self.start = ends[-1]
         self.ends, self.e, self.feed = [], [], []
