@@ -155,7 +155,9 @@ def _add_slice(sub) -> None:
                              ("--fan-speed", float, "PCT"), ("--fan-off-layers", int, "N"), ("--skirt-loops", int, "N"),
                              ("--skirt-distance", float, "MM"), ("--brim-width", float, "MM"),
                              ("--bed-size", str, "XxY"), ("--max-height", float, "MM"),
-                             ("--acceleration", float, "MM/S2"), ("--jerk", float, "MM/S")):
+                             ("--acceleration", float, "MM/S2"), ("--jerk", float, "MM/S"),
+                             ("--overhang-threshold", float, "DEG"), ("--bridge-speed", positive, "MM/S"),
+                             ("--bridge-flow-ratio", positive, "R")):
         p.add_argument(flag, type=kind, default=GIVEN, metavar=meta)
     p.add_argument("--nozzle-diameter", type=positive, default=GIVEN, metavar="MM")
     g = p.add_argument_group("printer and settings files")
@@ -163,7 +165,8 @@ def _add_slice(sub) -> None:
                    help="a bundled printer profile: prusa-mk3 (default values), generic-marlin-220, "
                         "generic-klipper-300")
     g.add_argument("--config", type=Path, default=GIVEN, metavar="FILE.toml",
-                   help="settings file: printer = NAME and a [settings] table; the flags given here override it")
+                   help="settings file: printer = NAME and a table per group ([extrusion], [infill], ..., as "
+                        "--print-config writes them) or one [settings] table; the flags given here override it")
     g.add_argument("--print-config", action="store_true",
                    help="print the settings in force (as a settings file) and stop")
     p.add_argument("--workers", type=int, default=GIVEN, metavar="N", help="processes (default: all cores)")
@@ -183,6 +186,7 @@ def _run_slice(args) -> int:
     r = run_job("slice", args.file, params, args.preview_dir, paths={"gcode": args.output})
     s = r.results
     say_repair(r)
+    warn(r)
     print(f"{args.file}: {r.n_facets} facets; {s['layers']} layers, print {s['print_length'] / 1000:.1f} m, "
           f"filament {s['filament_length'] / 1000:.2f} m ({s['extruded_volume'] / 1000:.2f} cm3)")
     t = r.timings

@@ -102,7 +102,7 @@ def gcode_lines(plan, totals: dict | None = None):
     k_e = s.extrusion_multiplier / s.filament_area
     speeds = {"external": s.external_perimeter_speed, "internal": s.perimeter_speed,
               "gap_fill": s.gap_fill_speed, "sparse": s.infill_speed, "solid": s.solid_infill_speed,
-              "top": s.top_solid_infill_speed,
+              "top": s.top_solid_infill_speed, "bridge": s.bridge_speed,
               "skirt": s.first_layer_speed, "brim": s.first_layer_speed}
     feed = {name: round(60 * v) / 60 for name, v in (("travel", s.travel_speed), ("retract", s.retraction_speed))}
     fan_on = f"M106 S{int(255 * s.fan_speed / 100)}\n" if s.fan_speed > 0 else ""  # as PrusaSlicer writes it
@@ -116,11 +116,16 @@ def gcode_lines(plan, totals: dict | None = None):
         moves.add([*(moves.pos[:2]), z], 0.0, feed["travel"])
         if k == s.fan_off_layers and fan_on:
             out.append(fan_on)
+        layer_fan = (fan_on or "M107\n") if k >= s.fan_off_layers else "M107\n"
         current_type = None
         for kind, (_, path, width) in zip(lp.kinds(), lp.ordered()):  # over paths
             xy = path + off[:2]
             if kind != current_type:
+                if current_type == "bridge" and layer_fan != "M106 S255\n":
+                    out.append(layer_fan)  # the layer's own fan again after a bridge
                 out.append(f";TYPE:{STYLES[kind].gcode_type}\n")
+                if kind == "bridge" and layer_fan != "M106 S255\n":
+                    out.append("M106 S255\n")  # bridge threads set in the air: full cooling
                 current_type = kind
             if pos is None or np.hypot(*(xy[0] - pos)) > 1e-9:
                 travel = math.inf if pos is None else float(np.hypot(*(xy[0] - pos)))
@@ -145,12 +150,14 @@ def gcode_lines(plan, totals: dict | None = None):
             w = np.full(len(xy), width) if np.isscalar(width) else np.asarray(width)
             wm = 0.5 * (w[:-1] + w[1:])
             speed = s.first_layer_speed if k == 0 else speeds[kind]
-            e = wm * h * seg * k_e
+            e = wm * h * seg * (k_e * s.bridge_flow_ratio if kind == "bridge" else k_e)
             out.append(f";WIDTH:{float(np.mean(wm)):.3f}\nG1 F{60 * speed:.0f}\n")
             out.append(_fmt(xy[1:], e) + "\n")
             moves.add(np.column_stack([xy[1:], np.full(len(xy) - 1, z)]), e, round(60 * speed) / 60)
             filament += float(np.round(e, 5).sum())
             pos = xy[-1]
+        if current_type == "bridge" and layer_fan != "M106 S255\n":
+            out.append(layer_fan)
         seconds += moves.seconds(s)
         yield "".join(out)
     top = max(z, min(z + 10.0, s.max_height))

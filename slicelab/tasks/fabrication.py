@@ -272,8 +272,9 @@ def _slice_write(pp, inp, p, out):
 
 
 def _slice_report(pp, inp, p):
+    bridges = int(pp.overhangs[:, 2].sum()) if len(pp.overhangs) else 0
     return {"layers": len(pp.layers), "print_length": pp.print_length, "filament_length": pp.filament_length,
-            "extruded_volume": pp.extruded_volume}, []
+            "extruded_volume": pp.extruded_volume, "bridges": bridges}, pp.warnings()
 
 
 SLICE = Job(

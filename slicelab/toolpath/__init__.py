@@ -12,10 +12,13 @@
 ``toolpath.skirt``          the first layer's skirt and brim
 ``toolpath.estimate``       print time of G-code moves (trapezoids, look-ahead)
 ``toolpath.bed``            `check_bed`: does the part fit the printer
-``toolpath.roles``          path roles, their G-code ``;TYPE:`` words and colours
+``toolpath.roles``          path kinds and roles, their G-code ``;TYPE:`` words and colours
+``toolpath.table``          `LayerPaths`: a layer's toolpaths as a table, a row per path
 ``toolpath.paths``          `layer_paths`: one layer's ordered toolpaths, coverage
-``toolpath.printers``        printer profiles, TOML settings files, start and end G-code
-``toolpath.planner``        `plan` a whole part -> `PrintPlan`, `PrintSettings`
+``toolpath.overhangs``      bridges, unheld overhangs and mid-air islands of a layer
+``toolpath.settings``       `PrintSettings` in groups (extrusion, infill, skins, motion, ...)
+``toolpath.printers``       printer profiles, TOML settings files, start and end G-code
+``toolpath.planner``        `plan` a whole part -> `PrintPlan`
 ==========================  =====================================================
 """
 from __future__ import annotations
@@ -39,9 +42,9 @@ _WHERE = {"PRINTERS": "printers", "FLAVORS": "printers", "resolve_settings": "pr
           "skirt_margin": "skirt", "with_skirt": "skirt", "move_times": "estimate", "format_duration": "estimate",
           "check_bed": "bed", "ISLAND_ROLES": "roles",
           "ROLES": "roles", "FILLING_KINDS": "roles", "KINDS": "roles", "ROLE_OF": "roles", "RoleStyle": "roles", "STYLES": "roles",
-          "LayerPaths": "paths", "layer_paths": "paths", "coverage_map": "paths", "covered_pixels": "paths",
+          "LayerPaths": "table", "layer_paths": "paths", "coverage_map": "paths", "covered_pixels": "paths",
           "PrintPlan": "planner", "plan": "planner", "layer_bounds": "planner",
-          "PrintSettings": "settings", "settings_dict": "settings", "setting_names": "settings",
+          "PrintSettings": "settings", "settings_dict": "settings", "Bridge": "overhangs", "LayerOverhangs": "overhangs", "layer_overhangs": "overhangs", "setting_names": "settings",
           "Extrusion": "settings", "Infill": "settings", "Skins": "settings", "Motion": "settings",
           "Cooling": "settings", "Adhesion": "settings", "Machine": "settings", "Raster": "settings",
           "GROUPS": "settings"}
@@ -56,7 +59,8 @@ __all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_con
            "skirt_margin", "with_skirt", "move_times", "format_duration", "check_bed", "ISLAND_ROLES", "ROLES",
            "FILLING_KINDS", "KINDS", "ROLE_OF", "RoleStyle", "STYLES", "LayerPaths", "layer_paths", "coverage_map", "covered_pixels", "PrintSettings",
            "PrintPlan", "plan", "layer_bounds", "settings_dict", "setting_names", "Extrusion", "Infill", "Skins",
-           "Motion", "Cooling", "Adhesion", "Machine", "Raster", "GROUPS"]
+           "Motion", "Cooling", "Adhesion", "Machine", "Raster", "GROUPS", "Bridge", "LayerOverhangs",
+           "layer_overhangs"]
 
 
 __getattr__, __dir__ = attach(__name__, _WHERE, globals())

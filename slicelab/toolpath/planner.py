@@ -71,6 +71,10 @@ class PrintPlan:
         sparse filling region's boundary (mm, from its level set).
     part_volume : float
         Sum of material area x layer height (mm^3).
+    overhangs : (n, 5) ndarray
+        Per layer (`slicelab.toolpath.overhangs`): the area over nothing beyond the overhang
+        threshold and not bridged (mm^2), the islands that start in mid-air, the bridges, and
+        a point (x, y; part coordinates, NaN if none) of the largest unheld part.
     seconds : dict
         Time spent slicing and making the paths.
 
@@ -87,6 +91,36 @@ class PrintPlan:
     areas: np.ndarray
     part_volume: float = 0.0
     seconds: dict = field(default_factory=dict)
+    overhangs: np.ndarray = field(default_factory=lambda: np.zeros((0, 5)))
+
+    def warnings(self) -> list[dict]:
+        """What will not print as planned, each a dict with a ``code`` and a ``message``.
+
+        ``unsupported_overhang``: material over nothing beyond the overhang threshold that no
+        bridge holds (no supports are made); ``mid_air``: islands that start with nothing
+        under them.
+        """
+        ov = self.overhangs
+        out = []
+        if len(ov) == 0:
+            return out
+        z = self.z
+        hang = np.flatnonzero(ov[:, 0] > 0)
+        if len(hang):
+            k = hang[np.argmax(ov[hang, 0])]
+            out.append({"code": "unsupported_overhang", "area_mm2": float(ov[hang, 0].sum()),
+                        "layers": int(len(hang)), "first_z": float(z[hang[0]]),
+                        "message": f"{ov[hang, 0].sum():.1f} mm2 over nothing on {len(hang)} layers "
+                                   f"(from z = {z[hang[0]]:.2f} mm) overhang more than "
+                                   f"{self.settings.overhang_threshold:g} degrees and no bridge holds them; "
+                                   f"slicelab makes no supports (largest at x = {ov[k, 3]:.1f}, "
+                                   f"y = {ov[k, 4]:.1f} mm in the part's coordinates)"})
+        air = np.flatnonzero(ov[:, 1] > 0)
+        if len(air):
+            out.append({"code": "mid_air", "islands": int(ov[air, 1].sum()), "first_z": float(z[air[0]]),
+                        "message": f"{int(ov[air, 1].sum())} island(s) start in mid-air (first at z = "
+                                   f"{z[air[0]]:.2f} mm) and would print onto nothing"})
+        return out
 
     def __repr__(self) -> str:
         return (f"PrintPlan({len(self.layers)} layers, print {self.print_length / 1000:.1f} m, "
@@ -170,6 +204,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     `z_tops` are the tops of these layers. Everything comes as arguments: a
     pool's worker needs no state from the parent.
     """
+    from .overhangs import layer_overhangs
     from .paths import layer_paths
     from .raster import rasterize
     from .simplify import simplify_paths
@@ -181,6 +216,10 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     pos = None
     for k in range(first, stop):  # over layers
         solid, top = _skin_masks(k, masks, n, s)
+        ov = None
+        if k > 0 and masks[k] is not None:  # the first layer lies on the bed
+            ov = layer_overhangs(masks[k], masks.get(k - 1), s.layer_height, threshold=s.overhang_threshold,
+                                 islands=rasters[k].tiles)
         parity = k % 2
         solid_angle = (s.infill_angle + 90.0 * parity) if s.solid_angle is None else s.solid_angle
         skirt = brim = ()
@@ -192,14 +231,16 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
                 pos = (list(skirt) + list(brim))[-1][-1]
         lp = layer_paths(sections[k], s.line_width, s.n_perimeters, s.infill_density, s.infill_angle,
                          s.pixel_size, layer_index=k, rule=s.rule, overlap=s.infill_overlap, solid=solid,
-                         solid_angle=solid_angle, top=top, start=pos, raster=rasters[k], pattern=s.infill_pattern,
+                         solid_angle=solid_angle, top=top, bridges=ov.bridges if ov else (), start=pos, raster=rasters[k], pattern=s.infill_pattern,
                          resolution=s.gcode_resolution)
         areas = _areas(lp, rasters[k], solid, s)
         lp = with_skirt(lp, skirt, brim)
         items = list(lp.ordered())
         if items:
             pos = items[-1][1][-1]
-        out.append((k, replace(lp, z=float(z_tops[k - first]), perimeters=None), areas))
+        where = ov.where if ov is not None and ov.where is not None else (np.nan, np.nan)
+        held = (ov.overhang_area, ov.mid_air, len(ov.bridges), *where) if ov is not None else (0, 0, 0, np.nan, np.nan)
+        out.append((k, replace(lp, z=float(z_tops[k - first]), perimeters=None), areas, held))
     return out
 
 
@@ -327,11 +368,12 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     results.sort(key=lambda r: r[0])
     layers = [r[1] for r in results]
     areas = np.array([r[2] for r in results]).reshape(-1, 4)
+    overhangs = np.array([r[3] for r in results], np.float64).reshape(-1, 5)
     heights = bounds[:, 1] - bounds[:, 0]
     offset = np.array([s.centre[0] - (lo[0] + hi[0]) / 2, s.centre[1] - (lo[1] + hi[1]) / 2, -lo[2]])
     t2 = time.perf_counter()
     return PrintPlan(s, layers, heights, offset, areas, float(np.sum(areas[:, 0] * heights)),
-                     {"slice": t1 - t0, "paths": t2 - t1})
+                     {"slice": t1 - t0, "paths": t2 - t1}, overhangs)
 
 
 def _costliest_first(chunks: list, sections: list, s: PrintSettings) -> list:

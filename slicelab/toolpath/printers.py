@@ -125,6 +125,7 @@ def format_config(settings) -> str:
     filament_diameter = 1.75
     extrusion_multiplier = 1.0
     gcode_resolution = 0.0125
+    bridge_flow_ratio = 1.0
     <BLANKLINE>
     """
     from dataclasses import asdict

@@ -2,9 +2,9 @@
 
 A layer's paths come in six lists (`ROLES`): the first layer's skirt and brim,
 printed first, then each island's four (`ISLAND_ROLES`, in the order an
-island prints them). Filling is sparse, solid, or top skin (solid filling
-that the layer above leaves exposed), so an extrusion is one of eight kinds
-(`KINDS`), each with its role (`ROLE_OF`). `STYLES` names each kind once for every output: the
+island prints them). Filling is sparse, solid, top skin (solid filling
+that the layer above leaves exposed) or bridge (lines laid across a gap), so
+an extrusion is one of nine kinds (`KINDS`), each with its role (`ROLE_OF`). `STYLES` names each kind once for every output: the
 ``;TYPE:`` word PrusaSlicer's G-code viewer reads (PrusaSlicer writes skirt and
 brim alike as ``Skirt/Brim``), that viewer's colour (used in the per-layer
 SVGs) and the colour on white matplotlib axes (gap fill, white in the viewer,
@@ -30,7 +30,7 @@ ISLAND_ROLES = ("external", "internal", "gap_fill", "filling")
 #: The path lists of a layer: the skirt and brim (first layer only) go before the islands.
 ROLES = ("skirt", "brim", *ISLAND_ROLES)
 #: What a filling path is.
-FILLING_KINDS = ("sparse", "solid", "top")
+FILLING_KINDS = ("sparse", "solid", "top", "bridge")
 #: The kind of an extrusion: its role, with filling split into its kinds.
 KINDS = ("skirt", "brim", "external", "internal", "gap_fill", *FILLING_KINDS)
 #: The role of each kind: filling kinds are filling, the others their own role.
@@ -64,4 +64,5 @@ STYLES = {
     "sparse": RoleStyle("Internal infill", "#b02e26", "#b02e26"),
     "solid": RoleStyle("Solid infill", "#8f1fd6", "#8f1fd6"),
     "top": RoleStyle("Top solid infill", "#f04040", "#e03131"),
+    "bridge": RoleStyle("Bridge infill", "#4d80ba", "#4d80ba"),
 }

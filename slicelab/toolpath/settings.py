@@ -28,7 +28,8 @@ __all__ = ["Extrusion", "Infill", "Skins", "Motion", "Cooling", "Adhesion", "Mac
 @dataclass(frozen=True)
 class Extrusion:
     """Layers and lines: heights, line width, perimeters, nozzle and filament (mm), the flow
-    multiplier, and `gcode_resolution`, the tolerance every path is simplified to (PrusaSlicer's)."""
+    multiplier (and its share for bridge lines), and `gcode_resolution`, the tolerance every path
+    is simplified to (PrusaSlicer's)."""
 
     layer_height: float = 0.2
     first_layer_height: float = 0.2
@@ -38,6 +39,7 @@ class Extrusion:
     filament_diameter: float = 1.75
     extrusion_multiplier: float = 1.0
     gcode_resolution: float = 0.0125
+    bridge_flow_ratio: float = 1.0
 
 
 @dataclass(frozen=True)
@@ -54,11 +56,14 @@ class Infill:
 @dataclass(frozen=True)
 class Skins:
     """Solid skins: how many layers at the top and bottom, and their angle (None: the infill's,
-    turned 90 degrees every layer)."""
+    turned 90 degrees every layer); the overhang angle from the vertical (degrees) up to which a
+    wall holds itself (`slicelab.toolpath.overhangs`): beyond it, material over nothing is a bridge
+    when held on two sides, else reported as unsupported."""
 
     top_layers: int = 3
     bottom_layers: int = 3
     solid_angle: float | None = None
+    overhang_threshold: float = 50.0
 
 
 @dataclass(frozen=True)
@@ -71,6 +76,7 @@ class Motion:
     infill_speed: float = 80.0
     solid_infill_speed: float = 60.0
     top_solid_infill_speed: float = 40.0
+    bridge_speed: float = 25.0
     gap_fill_speed: float = 20.0
     first_layer_speed: float = 20.0
     travel_speed: float = 150.0
@@ -216,7 +222,7 @@ class PrintSettings:
         from .patterns import PATTERNS
         positive = ("layer_height", "first_layer_height", "line_width", "nozzle_diameter", "filament_diameter",
                     "extrusion_multiplier", "perimeter_speed", "external_perimeter_speed", "infill_speed",
-                    "solid_infill_speed", "top_solid_infill_speed", "gap_fill_speed", "first_layer_speed", "travel_speed",
+                    "solid_infill_speed", "top_solid_infill_speed", "bridge_speed", "bridge_flow_ratio", "gap_fill_speed", "first_layer_speed", "travel_speed",
                     "retraction_speed", "pixel_size", "acceleration", "jerk", "max_height")
         for name in positive:
             v = getattr(self, name)
@@ -228,6 +234,9 @@ class PrintSettings:
                 raise ValueError(f"{name} must be a whole number >= 0, got {v!r}")
         if not 0 <= self.infill_density <= 1:
             raise ValueError(f"infill_density must be in [0, 1], got {self.infill_density!r}")
+        if not (isinstance(self.overhang_threshold, (int, float)) and 0 < self.overhang_threshold < 90):
+            raise ValueError(f"overhang_threshold must be an angle from the vertical between 0 and 90 degrees, "
+                             f"got {self.overhang_threshold!r}")
         for name in ("retraction_length", "retract_min_travel", "z_lift", "skirt_distance", "brim_width"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and v >= 0 and math.isfinite(v)):

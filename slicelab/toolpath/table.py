@@ -1,0 +1,190 @@
+"""A layer's toolpaths as a table: one row per path, its kind, polyline and width, in print order.
+
+The slicer design's lists (``external_contour_segments``,
+``internal_contour_segments``, ``filling_segments``) and one list per role are
+views of the table; writers (`slicelab.export.gcode`, the SVGs and plots of
+`slicelab.viz`) read its rows.
+
+See Also
+--------
+slicelab.toolpath.paths.layer_paths : makes the table of a layer.
+slicelab.toolpath.roles : the kinds and roles, their G-code words and colours.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .perimeters import Perimeters
+from .roles import KINDS, ROLE_OF
+
+__all__ = ["LayerPaths"]
+
+
+@dataclass(frozen=True, eq=False)
+class LayerPaths:
+    """Toolpaths of one layer: a table with one row per path, in print order.
+
+    Each row is an extrusion: its kind (a key of `slicelab.toolpath.roles.STYLES`:
+    ``"skirt"``, ``"brim"``, ``"external"``, ``"internal"``, ``"gap_fill"``,
+    ``"sparse"``, ``"solid"``, ``"top"``), its polyline and its width. Row order
+    is print order. The lists of the slicer design (``external_contour_segments``,
+    ``internal_contour_segments``, ``filling_segments``) and the others are
+    views of the table, one per role (`slicelab.toolpath.roles.ROLES`).
+
+    Attributes
+    ----------
+    kind : tuple of str
+        Each row's kind.
+    paths : tuple of (k, 2) ndarray
+        Each row's polyline (mm); loops are closed (first point repeated).
+    widths : tuple of float or (k,) ndarray
+        Each row's extrusion width (mm), or its width at each vertex (gap fill).
+    travel_length : float
+        Length of the moves between consecutive paths (mm).
+    line_width : float
+    z : float
+        Height of the section (NaN if not horizontal).
+    thin_walls : int
+        Islands too thin for one perimeter (printed as gap fill only).
+    perimeters : Perimeters
+        The perimeter stage's result (fields, regions), for plots.
+
+    Examples
+    --------
+    >>> import slicelab
+    >>> from slicelab.samples import box
+    >>> s = slicelab.section(box((0, 0, 0), (10, 6, 1)), (0, 0, .5), (0, 0, 1))
+    >>> lp = slicelab.layer_paths(s, 0.4, 2, 1.0, pixel_size=0.1)
+    >>> lp.kind
+    ('external', 'internal', 'sparse')
+    >>> len(lp), [len(v) for v in (lp.external_contour_segments, lp.internal_contour_segments,
+    ...                            lp.filling_segments)]
+    (3, [1, 1, 1])
+    """
+
+    kind: tuple
+    paths: tuple
+    widths: tuple
+    travel_length: float
+    line_width: float
+    z: float = float("nan")
+    thin_walls: int = 0
+    perimeters: Perimeters | None = field(default=None, repr=False)
+
+    def __post_init__(self):
+        unknown = set(self.kind) - set(KINDS)
+        if unknown:
+            raise ValueError(f"unknown path kinds {sorted(unknown)}; expected some of {KINDS}")
+        if not len(self.kind) == len(self.paths) == len(self.widths):
+            raise ValueError("kind, paths and widths need one entry per row")
+
+    def __len__(self) -> int:
+        return len(self.kind)
+
+    def __repr__(self) -> str:
+        return (f"LayerPaths(z={self.z:g}, {len(self.external_contour_segments)} external, "
+                f"{len(self.internal_contour_segments)} internal, {len(self.filling_segments)} filling, "
+                f"{len(self.gap_fill_segments)} gap fill, extrusion {self.extrusion_length:.1f} mm, "
+                f"travel {self.travel_length:.1f} mm)")
+
+    @classmethod
+    def from_rows(cls, rows, **kw) -> "LayerPaths":
+        """A table from (kind, path, width) rows in print order; `kw` fills the other fields."""
+        rows = list(rows)
+        return cls(tuple(r[0] for r in rows), tuple(r[1] for r in rows), tuple(r[2] for r in rows), **kw)
+
+    def rows(self, kinds=None):
+        """Yield (kind, polyline, width) in print order, of the given kinds only if given."""
+        for k, q, w in zip(self.kind, self.paths, self.widths):
+            if kinds is None or k in kinds:
+                yield k, q, w
+
+    def role_of(self, kind: str) -> str:
+        """The role (`slicelab.toolpath.roles.ROLES`) of a kind: filling kinds are ``"filling"``."""
+        return ROLE_OF[kind]
+
+    def role_list(self, role: str) -> list:
+        """The paths of one role (one of `slicelab.toolpath.roles.ROLES`), in print order."""
+        return [q for k, q in zip(self.kind, self.paths) if ROLE_OF[k] == role]
+
+    @property
+    def external_contour_segments(self) -> list:
+        """Closed polylines, one per island's outer boundary."""
+        return self.role_list("external")
+
+    @property
+    def internal_contour_segments(self) -> list:
+        """Closed polylines: hole boundaries and inner perimeters."""
+        return self.role_list("internal")
+
+    @property
+    def filling_segments(self) -> list:
+        """Polylines of the filling (sparse, solid and top skin)."""
+        return self.role_list("filling")
+
+    @property
+    def filling_kinds(self) -> tuple:
+        """The kind of each of `filling_segments`."""
+        return tuple(k for k in self.kind if ROLE_OF[k] == "filling")
+
+    @property
+    def gap_fill_segments(self) -> list:
+        """Open polylines along thin walls and gaps between perimeters."""
+        return self.role_list("gap_fill")
+
+    @property
+    def gap_fill_widths(self) -> list:
+        """The width at each vertex of each of `gap_fill_segments`."""
+        return [w for k, w in zip(self.kind, self.widths) if k == "gap_fill"]
+
+    @property
+    def skirt_segments(self) -> list:
+        """The skirt's loops (first layer only)."""
+        return self.role_list("skirt")
+
+    @property
+    def brim_segments(self) -> list:
+        """The brim's loops (first layer only)."""
+        return self.role_list("brim")
+
+    @property
+    def sequence(self) -> tuple:
+        """Print order as (role, index into that role's list) pairs."""
+        seen: dict = {}
+        out = []
+        for k in self.kind:
+            r = ROLE_OF[k]
+            out.append((r, seen.get(r, 0)))
+            seen[r] = seen.get(r, 0) + 1
+        return tuple(out)
+
+    def ordered(self):
+        """Yield (role, polyline, width) in print order; width is a scalar or per-vertex array."""
+        for k, q, w in zip(self.kind, self.paths, self.widths):
+            yield ROLE_OF[k], q, w
+
+    def kinds(self) -> list[str]:
+        """The kind of each path in print order (the keys of `slicelab.toolpath.roles.STYLES`)."""
+        return list(self.kind)
+
+    @property
+    def extrusion_length(self) -> float:
+        """Total length of all extrusions (mm)."""
+        return float(sum(_length(p) for p in self.paths))
+
+    def extruded_area(self) -> float:
+        """Sum of length x width over the extrusions (mm^2): the material laid per unit height."""
+        total = 0.0
+        for p, w in zip(self.paths, self.widths):
+            seg = np.hypot(*np.diff(p, axis=0).T)
+            ww = np.full(len(p), w) if np.isscalar(w) else np.asarray(w)
+            total += float(np.sum(seg * 0.5 * (ww[:-1] + ww[1:])))
+        return total
+
+
+def _length(p: np.ndarray) -> float:
+    return float(np.hypot(*np.diff(p, axis=0).T).sum()) if len(p) > 1 else 0.0
+
+

@@ -1,0 +1,136 @@
+"""Bridges, overhangs and mid-air islands: found from the layer masks, printed or reported.
+
+Parts are built from boxes and voxels with known geometry; the G-code is read back from disk.
+"""
+import math
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import slicelab
+from slicelab.export.gcode import write_gcode
+from slicelab.samples import box, concat, voxels
+from slicelab.toolpath import PrintSettings, plan
+
+S = dict(pixel_size=0.1, layer_height=0.25, first_layer_height=0.25, skirt_loops=0)
+
+
+def bridge_part():
+    """Two 5 x 10 x 6 mm pillars 20 mm apart, a 2 mm deck across them."""
+    occ = np.zeros((30, 10, 8), bool)
+    occ[:5, :, :6] = occ[25:, :, :6] = True
+    occ[:, :, 6:] = True
+    return voxels(occ)
+
+
+def ramp(angle: float, height: float = 6.0):
+    """A 10 x 10 mm block leaning `angle` degrees from the vertical towards +x."""
+    shear = np.eye(4)
+    shear[0, 2] = math.tan(math.radians(angle))
+    return box((0, 0, 0), (10, 10, height)).transformed(shear)
+
+
+@pytest.fixture(scope="module")
+def bridged(tmp_path_factory):
+    s = PrintSettings(**S, fan_speed=50)
+    pp = plan(bridge_part(), s, workers=1)
+    path = tmp_path_factory.mktemp("bridge") / "bridge.gcode"
+    write_gcode(pp, path)
+    return s, pp, path.read_text()
+
+
+def test_a_deck_between_pillars_is_bridged_across_the_gap(bridged):
+    s, pp, _ = bridged
+    k = int(round(6.0 / s.layer_height))  # the deck's first layer, 6.0 - 6.25 mm
+    lp = pp.layers[k]
+    lines = [q for kind, q, _ in lp.rows({"bridge"})]
+    assert lines, lp.kinds()
+    seg = np.concatenate([np.diff(q, axis=0) for q in lines])
+    length = np.hypot(*seg.T)
+    along = np.abs(np.degrees(np.arctan2(seg[:, 1], seg[:, 0])))
+    along = np.minimum(along, 180 - along)  # 0: along x, across the gap
+    # Most of the bridge's length runs across the gap (the short links between lines do not).
+    assert length[along < 10].sum() > 0.8 * length.sum()
+    # The bridge lines cover the gap between the pillars, not the pillars' tops.
+    pts = np.concatenate(lines)
+    assert pts[:, 0].min() < 6 and pts[:, 0].max() > 24
+    bridged_len = length.sum()
+    assert bridged_len * s.line_width == pytest.approx(20 * 10, rel=0.25)  # the gap's area, about
+    assert pp.overhangs[k, 2] == 1
+    # Held on both sides: nothing reported as unsupported.
+    assert [w["code"] for w in pp.warnings()] == []
+    # The layers below and above the deck's first layer have no bridge.
+    assert "bridge" not in pp.layers[k - 1].kinds() and "bridge" not in pp.layers[k + 2].kinds()
+
+
+def test_bridge_gcode_has_its_type_speed_flow_and_fan(bridged):
+    s, pp, text = bridged
+    blocks = text.split(";TYPE:")
+    bridge = [b for b in blocks if b.startswith("Bridge infill")]
+    assert bridge
+    for b in bridge:
+        assert f"G1 F{60 * s.bridge_speed:.0f}" in b
+    # The fan goes to full for each bridge and back to the layer's setting after it.
+    fan = f"M106 S{int(255 * s.fan_speed / 100)}"
+    for b, after in zip(blocks, blocks[1:]):
+        if b.startswith("Bridge infill"):
+            assert b.splitlines()[1] == "M106 S255"
+            assert b.rstrip().endswith(fan), b[-200:]
+
+
+@pytest.mark.parametrize("angle, unsupported", [(30, False), (45, False), (60, True)])
+def test_only_steep_overhangs_are_reported(angle, unsupported):
+    s = PrintSettings(**S)
+    pp = plan(ramp(angle), s, workers=1)
+    codes = [w["code"] for w in pp.warnings()]
+    assert ("unsupported_overhang" in codes) == unsupported, (angle, pp.overhangs[:, 0].sum())
+    if unsupported:
+        # Every layer above the first leans out by h tan(60) = 0.43 mm, beyond h tan(50) = 0.30 mm.
+        assert (pp.overhangs[1:, 0] > 0).mean() > 0.9
+        w = next(w for w in pp.warnings() if w["code"] == "unsupported_overhang")
+        assert "60" not in w["message"] or "50" in w["message"]
+        assert pp.overhangs[1:, 3][np.isfinite(pp.overhangs[1:, 3])].min() > 9.0  # on the leaning +x side
+
+
+def test_a_steeper_threshold_lets_the_ramp_hold():
+    pp = plan(ramp(60), PrintSettings(**S, overhang_threshold=70), workers=1)
+    assert pp.warnings() == []
+
+
+def test_a_cantilever_is_an_overhang_not_a_bridge():
+    occ = np.zeros((20, 6, 8), bool)
+    occ[8:12, :, :6] = True  # a stem
+    occ[:, :, 6:] = True  # a bar over it, 8 mm out on each side: a T
+    pp = plan(voxels(occ), PrintSettings(**S), workers=1)
+    k = int(round(6.0 / 0.25))
+    assert pp.overhangs[k, 2] == 0
+    # About the two arms' area, less the reach a wall holds and a pixel at each edge.
+    assert pp.overhangs[k, 0] == pytest.approx(2 * 8 * 6, rel=0.1)
+    assert "unsupported_overhang" in [w["code"] for w in pp.warnings()]
+
+
+def test_an_island_that_starts_in_mid_air_is_named():
+    part = concat(box((0, 0, 0), (10, 10, 6)), box((15, 0, 3), (20, 5, 6)))
+    pp = plan(part, PrintSettings(**S), workers=1)
+    k = int(round(3.0 / 0.25))
+    assert pp.overhangs[k, 1] == 1 and pp.overhangs[:k, 1].sum() == 0 and pp.overhangs[k + 1:, 1].sum() == 0
+    w = {w["code"]: w for w in pp.warnings()}
+    assert w["mid_air"]["islands"] == 1 and w["mid_air"]["first_z"] == pytest.approx(3.25)
+
+
+def test_slice_says_what_will_not_print(tmp_path):
+    part = concat(box((0, 0, 0), (10, 10, 6)), box((15, 0, 3), (20, 5, 6)))
+    f = tmp_path / "floating.stl"
+    slicelab.save(part, f)
+    r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(f), "-o", str(tmp_path / "o.gcode"),
+                        "--pixel-size", "0.1", "--workers", "1"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "mid-air" in r.stderr and "z = 3.2" in r.stderr
+    assert (tmp_path / "o.gcode").read_text().count(";LAYER_CHANGE") == 30
+
+
+def test_bad_overhang_threshold_is_refused():
+    with pytest.raises(ValueError, match="overhang_threshold"):
+        PrintSettings(overhang_threshold=95)
