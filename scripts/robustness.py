@@ -9,7 +9,9 @@ and a part counts as closed when the file checks watertight.
 
     python scripts/robustness.py [--planes 5] [--root ../shared/meshes] [--seed 0]
 
-Prints one line per file and the totals. Cost grows with the total facet
+Prints one line per file, the totals, and one line per part not closed on
+disk with its cause: not closed in memory already (the cut) or lost in the
+float32 rounding (the writing). Cost grows with the total facet
 count times the planes (each cut is linear in the facets).
 """
 from __future__ import annotations
@@ -31,12 +33,25 @@ from slicelab.export import write_mesh  # noqa: E402
 from slicelab.mesh import MeshFileError  # noqa: E402
 
 
+def _cause(part, on_disk, out) -> str:
+    """Why a part is not closed on disk: not closed in memory already (the cut), or lost in float32."""
+    in_memory = slicelab.check(part)
+    edges = (f"{on_disk.n_open_edges} open, {on_disk.n_nonmanifold_edges} non-manifold edges on disk "
+             f"({out.n_collapsed} facets collapsed, {out.n_moved} vertices moved in float32)")
+    if not in_memory.watertight:
+        return (f"not closed in memory already ({in_memory.n_open_edges} open, "
+                f"{in_memory.n_nonmanifold_edges} non-manifold edges: the cut, not the writing); " + edges)
+    return "watertight in memory, not in float32 (the writing): " + edges
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--root", type=Path, default=ROOT.parent / "shared" / "meshes")
     ap.add_argument("--planes", type=int, default=5)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--max-facets", type=int, default=2_000_000, help="skip larger files")
+    ap.add_argument("--keep", type=Path, default=None,
+                    help="save the float64 triangles of each part not closed on disk here (.npy)")
     args = ap.parse_args(argv)
     if not args.root.is_dir():
         print(f"robustness: {args.root} is not there; nothing to do")
@@ -45,6 +60,7 @@ def main(argv=None) -> int:
     files = sorted(p for p in args.root.rglob("*") if p.is_file() and p.suffix.lower() == ".stl")
     totals = dict(files=0, refused=0, repaired=0, open_input=0, cuts=0, parts=0, closed=0, noted=0)
     reasons: dict[str, int] = {}
+    failures: list[str] = []
     t0 = time.perf_counter()
     with tempfile.TemporaryDirectory() as tmp:
         for path in files:  # over files
@@ -88,7 +104,15 @@ def main(argv=None) -> int:
                         continue
                     parts += 1
                     out = write_mesh(part, Path(tmp) / f"{side}.stl")
-                    closed += slicelab.check(slicelab.load(out.path)).watertight
+                    on_disk = slicelab.check(slicelab.load(out.path))
+                    closed += on_disk.watertight
+                    if not on_disk.watertight:
+                        why = _cause(part, on_disk, out)
+                        failures.append(f"{rel} cut {k} {side}: {why}")
+                        if args.keep is not None:
+                            args.keep.mkdir(parents=True, exist_ok=True)
+                            np.save(args.keep / f"{rel.as_posix().replace('/', '__')}_{k}_{side}.npy",
+                                    part.triangles)
             totals["cuts"] += args.planes
             totals["parts"] += parts
             totals["closed"] += closed
@@ -101,6 +125,8 @@ def main(argv=None) -> int:
           f"{totals['open_input']} still open after repair (not cut)")
     print(f"robustness: {totals['cuts']} cuts, {totals['closed']}/{totals['parts']} parts closed on disk, "
           f"{totals['noted']} cuts through self-intersecting loops")
+    for line in failures:
+        print("robustness: not closed on disk: " + line)
     if reasons:
         print("robustness: refusals: " + "; ".join(f"{n} x {r}" for r, n in sorted(reasons.items())))
     return 0

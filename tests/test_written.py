@@ -69,3 +69,46 @@ def test_stair_partition_of_a_scan_fits_and_is_watertight_on_disk(scan_like, tmp
         total += check(piece).volume
     assert total == pytest.approx(check(scan_like).volume, rel=1e-5)
     assert r.results["watertight"]
+
+
+# ------------------------------------------------------------------ vertices float32 merges
+_TET_FACES = np.array([[0, 2, 1], [0, 1, 3], [0, 3, 2], [1, 2, 3]])
+
+
+def _tetrahedra_a_gap_apart(gap: float, corner=(10.0, 3.0, 1.0)) -> Mesh:
+    """Two tetrahedra sharing a corner whose edges from it end `gap` apart (two closed shells)."""
+    c = np.array(corner)
+    one = np.array([[0, 0, 0], c, [0, 10, 0], [0, 0, 10]], float)
+    two = np.array([[0, 0, 0], c + (gap, 0, 0), [0, -10, 0], [0, 0, -10]], float)
+    return Mesh(np.concatenate([one[_TET_FACES], two[_TET_FACES]]))
+
+
+@pytest.mark.parametrize("gap, corner", [(1e-9, (10.0, 3.0, 1.0)), (4e-7, (10.0, 3.0, 1.0)),
+                                         (1e-5, (500.0, 300.0, 100.0))])
+def test_vertices_that_float32_merges_stay_apart_in_the_file(gap, corner, tmp_path):
+    from slicelab.export import as_float32, write_mesh
+    m = _tetrahedra_a_gap_apart(gap, corner)
+    assert check(m).watertight and check(m).n_shells == 2
+    rounded = check(as_float32(m)[0])
+    assert rounded.n_nonmanifold_edges == 1 and not rounded.watertight  # rounding alone loses it
+    w = write_mesh(m, tmp_path / "two.stl")
+    back = slicelab.load(tmp_path / "two.stl")
+    r = check(back)
+    assert r.watertight and r.winding_consistent and r.n_shells == 2 and r == w.report
+    assert w.n_moved == 1 and w.n_collapsed == 0 and r.n_vertices == check(m).n_vertices
+    # The moved corner is one float32 step from its place; the volume is the mesh's.
+    step = np.spacing(np.float32(max(abs(x) for x in corner)))
+    assert np.abs(back.triangles - m.triangles).max() <= 1.5 * step
+    assert r.volume == pytest.approx(check(m).volume, rel=1e-6)
+
+
+def test_cut_points_float32_merges_stay_apart_in_the_written_parts(tmp_path):
+    # The plane crosses both near edges: their cut points lie ~1e-9 apart, one float32 point.
+    m = _tetrahedra_a_gap_apart(1e-9)
+    origin, normal = (5.0, 0.0, 0.0), (1.0, 0.2, 0.1)
+    parts = slicelab.cut(m, origin, normal)
+    from slicelab.export import as_float32
+    assert any(check(p).watertight and not check(as_float32(p)[0]).watertight for p in parts)
+    r = run_job("cut", "two.stl", {"plane": (origin, normal), "preview": False}, tmp_path, mesh=m)
+    for name in ("rear", "front"):
+        assert _tight_on_disk(tmp_path / f"{name}.stl") and r.results[name]["watertight"]

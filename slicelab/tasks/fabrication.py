@@ -56,7 +56,7 @@ def _write_parts(named, out) -> tuple[dict, list]:
         r = w.report
         results[role if name is None else name] = {
             "facets": r.n_facets, "volume": r.volume, "watertight": bool(r.watertight and r.winding_consistent),
-            "collapsed_in_float32": w.n_collapsed}
+            "collapsed_in_float32": w.n_collapsed, "moved_in_float32": w.n_moved}
         if not (r.watertight and r.winding_consistent):
             reasons.append(reason("not_watertight", f"{w.path.name} as written has {r.n_open_edges} open, "
                                                     f"{r.n_nonmanifold_edges} non-manifold and "
