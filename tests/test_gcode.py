@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import slicelab
-from slicelab.export.gcode import write_gcode
+from slicelab.export.gcode import layer_fan, write_gcode
 from slicelab.geometry.polygons import Polygon
 from slicelab.samples import box, cube_with_hole
 from slicelab.toolpath.bed import check_bed
@@ -264,14 +264,20 @@ def test_skirt_and_brim_around_the_first_layer(cube):
 
 
 def test_fan_and_temperatures_in_order(cube):
-    mesh, s, pp, text, g, _ = cube
+    mesh, s, pp, text, g, totals = cube
     cmds = [c for _, c in g["commands"]]
     heat = [cmds.index(c) for c in ("M140 S60", "M104 S210", "M190 S60", "M109 S210")]
     assert heat == sorted(heat) and heat[-1] < cmds.index("G28")
     fan = [(k, c) for k, c in g["commands"] if c.startswith(("M106", "M107"))]
-    # Off from the start, on at 50 % (S127, PrusaSlicer's truncation) when layer 2 starts, off at the end.
-    assert fan == [(-1, "M107"), (s.fan_off_layers, "M106 S127"), (len(pp.layers) - 1, "M107")]
-    end = cmds[cmds.index("M106 S127"):]
+    # Off from the start; from layer fan_off_layers on at 50 % (S127, PrusaSlicer's truncation),
+    # raised towards full as layers get quicker than fan_below_layer_time; off at the end.
+    seconds = totals["layer_seconds"]
+    want = [layer_fan(k, t, s) for k, t in enumerate(seconds)]
+    changes = [(k, f"M106 S{int(255 * f / 100)}" if f else "M107") for k, f in enumerate(want)
+               if f != (want[k - 1] if k else 0)]
+    assert fan == [(-1, "M107")] + changes + [(len(pp.layers) - 1, "M107")]
+    assert want[:s.fan_off_layers] == [0] * s.fan_off_layers and min(want[s.fan_off_layers:]) >= 50
+    end = cmds[cmds.index(changes[0][1]):]
     assert end.index("M104 S0") < end.index("M140 S0") < end.index("M84")
 
 
@@ -283,6 +289,21 @@ def test_fan_defaults_and_no_fan(tmp_path):
     write_gcode(pp, tmp_path / "b.gcode")
     g = read_gcode((tmp_path / "b.gcode").read_text())
     assert [(k, c) for k, c in g["commands"] if c.startswith("M106")] == [(1, "M106 S255")]
+
+
+def test_quick_layers_are_slowed_and_cooled_more(tmp_path):
+    # A 6 mm square tower: each layer prints in about a second at full speed.
+    s = PrintSettings(**FAST, fan_speed=30, min_layer_time=8, fan_below_layer_time=30, min_print_speed=2)
+    pp = plan(box((0, 0, 0), (6, 6, 2.4)), s, workers=1)
+    totals = write_gcode(pp, tmp_path / "t.gcode")
+    seconds = totals["layer_seconds"]
+    assert all(t >= 0.97 * s.min_layer_time for t in seconds[1:]), seconds
+    first = write_gcode(plan(box((0, 0, 0), (6, 6, 2.4)), PrintSettings(**FAST, min_layer_time=0), workers=1),
+                        tmp_path / "f.gcode")
+    assert seconds[0] == pytest.approx(first["layer_seconds"][0])  # the first layer keeps its own speed
+    text = (tmp_path / "t.gcode").read_text()
+    assert "M106 S255" in text and "M106 S76" not in text  # full, never the plain 30 %
+    assert max(first["layer_seconds"][1:]) < 0.6 * s.min_layer_time  # so each was slowed, by 1.6x or more
 
 
 def test_time_estimate_is_the_sum_of_the_moves_read_back(cube):
@@ -384,6 +405,7 @@ def test_cli_slice_with_the_new_settings(tmp_path, data_dir):
                         "--nozzle-diameter", "2.5", "--line-width", "2",
                         "--pixel-size", "0.2", "--workers", "1", "--infill-pattern", "gyroid", "--skirt-loops", "2",
                         "--brim-width", "1", "--fan-speed", "40", "--fan-off-layers", "3", "--bed-size", "220x220",
+                        "--fan-below-layer-time", "0",
                         "--acceleration", "1500", "--gcode-resolution", "0.02"], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
     text = out.read_text()

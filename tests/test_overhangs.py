@@ -34,7 +34,7 @@ def ramp(angle: float, height: float = 6.0):
 
 @pytest.fixture(scope="module")
 def bridged(tmp_path_factory):
-    s = PrintSettings(**S, fan_speed=50)
+    s = PrintSettings(**S, fan_speed=50, fan_below_layer_time=0)
     pp = plan(bridge_part(), s, workers=1)
     path = tmp_path_factory.mktemp("bridge") / "bridge.gcode"
     write_gcode(pp, path)

@@ -157,7 +157,8 @@ def _add_slice(sub) -> None:
                              ("--bed-size", str, "XxY"), ("--max-height", float, "MM"),
                              ("--acceleration", float, "MM/S2"), ("--jerk", float, "MM/S"),
                              ("--overhang-threshold", float, "DEG"), ("--bridge-speed", positive, "MM/S"),
-                             ("--bridge-flow-ratio", positive, "R")):
+                             ("--bridge-flow-ratio", positive, "R"), ("--min-layer-time", float, "S"),
+                             ("--fan-below-layer-time", float, "S"), ("--min-print-speed", positive, "MM/S")):
         p.add_argument(flag, type=kind, default=GIVEN, metavar=meta)
     p.add_argument("--nozzle-diameter", type=positive, default=GIVEN, metavar="MM")
     g = p.add_argument_group("printer and settings files")

@@ -35,7 +35,7 @@ from ..toolpath.roles import STYLES
 from .files import atomic_open
 from .svg import SvgDrawing
 
-__all__ = ["write_gcode", "gcode_lines", "write_svgs"]
+__all__ = ["write_gcode", "gcode_lines", "write_svgs", "layer_fan"]
 
 
 def _fmt(xy: np.ndarray, e: np.ndarray) -> str:
@@ -83,7 +83,8 @@ def gcode_lines(plan, totals: dict | None = None):
     plan : PrintPlan
     totals : dict, optional
         Filled at the end with ``seconds`` (the estimated print time) and
-        ``filament`` (mm), as the file's last lines say.
+        ``filament`` (mm), as the file's last lines say, and ``layer_seconds``
+        (each layer's time, slowed to `min_layer_time` where needed).
 
     See Also
     --------
@@ -99,78 +100,134 @@ def gcode_lines(plan, totals: dict | None = None):
            f"; flavor = {s.gcode_flavor}\n"
            + render_gcode(s.start_gcode if s.start_gcode is not None else MARLIN_START, s)
            + "G92 E0\nM107\n")
-    k_e = s.extrusion_multiplier / s.filament_area
-    speeds = {"external": s.external_perimeter_speed, "internal": s.perimeter_speed,
-              "gap_fill": s.gap_fill_speed, "sparse": s.infill_speed, "solid": s.solid_infill_speed,
-              "top": s.top_solid_infill_speed, "bridge": s.bridge_speed,
-              "skirt": s.first_layer_speed, "brim": s.first_layer_speed}
-    feed = {name: round(60 * v) / 60 for name, v in (("travel", s.travel_speed), ("retract", s.retraction_speed))}
-    fan_on = f"M106 S{int(255 * s.fan_speed / 100)}\n" if s.fan_speed > 0 else ""  # as PrusaSlicer writes it
     moves = _Moves(np.zeros(3))  # G28 leaves the nozzle at the origin
     seconds = filament = 0.0
     pos = None
     z = 0.0
+    fan_now = 0  # M107 above
+    layer_seconds = []
     for k, (lp, h) in enumerate(zip(plan.layers, plan.heights)):  # over layers
         z = lp.z + 0.0
-        out = [f";LAYER_CHANGE\n;Z:{z:.3f}\n;HEIGHT:{h:.3f}\n;LAYER:{k}\nG1 Z{z:.3f} F{60 * s.travel_speed:.0f}\n"]
-        moves.add([*(moves.pos[:2]), z], 0.0, feed["travel"])
-        if k == s.fan_off_layers and fan_on:
-            out.append(fan_on)
-        layer_fan = (fan_on or "M107\n") if k >= s.fan_off_layers else "M107\n"
-        current_type = None
-        for kind, (_, path, width) in zip(lp.kinds(), lp.ordered()):  # over paths
-            xy = path + off[:2]
-            if kind != current_type:
-                if current_type == "bridge" and layer_fan != "M106 S255\n":
-                    out.append(layer_fan)  # the layer's own fan again after a bridge
-                out.append(f";TYPE:{STYLES[kind].gcode_type}\n")
-                if kind == "bridge" and layer_fan != "M106 S255\n":
-                    out.append("M106 S255\n")  # bridge threads set in the air: full cooling
-                current_type = kind
-            if pos is None or np.hypot(*(xy[0] - pos)) > 1e-9:
-                travel = math.inf if pos is None else float(np.hypot(*(xy[0] - pos)))
-                x0, y0 = xy[0]
-                if travel > s.retract_min_travel and s.retraction_length > 0:
-                    out.append(f"G1 E{-s.retraction_length:.5f} F{60 * s.retraction_speed:.0f}\n")
-                    moves.add(moves.pos, -s.retraction_length, feed["retract"])
-                    if s.z_lift > 0:
-                        out.append(f"G1 Z{z + s.z_lift:.3f} F{60 * s.travel_speed:.0f}\n")
-                        moves.add([*(moves.pos[:2]), z + s.z_lift], 0.0, feed["travel"])
-                    out.append(f"G0 X{x0:.3f} Y{y0:.3f} F{60 * s.travel_speed:.0f}\n")
-                    moves.add([x0, y0, z + s.z_lift], 0.0, feed["travel"])
-                    if s.z_lift > 0:
-                        out.append(f"G1 Z{z:.3f}\n")
-                        moves.add([x0, y0, z], 0.0, feed["travel"])
-                    out.append(f"G1 E{s.retraction_length:.5f} F{60 * s.retraction_speed:.0f}\n")
-                    moves.add([x0, y0, z], s.retraction_length, feed["retract"])
-                else:
-                    out.append(f"G0 X{x0:.3f} Y{y0:.3f} F{60 * s.travel_speed:.0f}\n")
-                    moves.add([x0, y0, z], 0.0, feed["travel"])
-            seg = np.hypot(*np.diff(xy, axis=0).T)
-            w = np.full(len(xy), width) if np.isscalar(width) else np.asarray(width)
-            wm = 0.5 * (w[:-1] + w[1:])
-            speed = s.first_layer_speed if k == 0 else speeds[kind]
-            e = wm * h * seg * (k_e * s.bridge_flow_ratio if kind == "bridge" else k_e)
-            out.append(f";WIDTH:{float(np.mean(wm)):.3f}\nG1 F{60 * speed:.0f}\n")
-            out.append(_fmt(xy[1:], e) + "\n")
-            moves.add(np.column_stack([xy[1:], np.full(len(xy) - 1, z)]), e, round(60 * speed) / 60)
-            filament += float(np.round(e, 5).sum())
-            pos = xy[-1]
-        if current_type == "bridge" and layer_fan != "M106 S255\n":
-            out.append(layer_fan)
-        seconds += moves.seconds(s)
-        yield "".join(out)
+        # Written at full speed first; a layer quicker than `min_layer_time` is written again
+        # slower, so that it has time to cool before the next one is laid on it.
+        start = (moves.pos.copy(), moves.start.copy())
+        text, end, used = _layer_gcode(k, lp, h, s, off, moves, pos, 1.0)
+        t = moves.seconds(s)
+        factor = 1.0
+        for _ in range(4):  # travel and acceleration do not slow in step: a few rounds
+            if k == 0 or t >= 0.99 * s.min_layer_time or factor * s.min_layer_time <= 0:
+                break
+            factor *= t / s.min_layer_time
+            moves.pos, moves.start = start
+            moves.ends, moves.e, moves.feed = [], [], []
+            text, end, used = _layer_gcode(k, lp, h, s, off, moves, pos, factor)
+            t = moves.seconds(s)
+        fan = layer_fan(k, t, s)
+        head = (f";LAYER_CHANGE\n;Z:{z:.3f}\n;HEIGHT:{h:.3f}\n;LAYER:{k}\n"
+                + ("" if fan == fan_now else _fan_command(fan)))
+        fan_now = fan
+        pos, seconds, filament = end, seconds + t, filament + used
+        layer_seconds.append(t)
+        yield head + text.replace("\x00FAN\x00", _fan_command(fan))
     top = max(z, min(z + 10.0, s.max_height))
-    moves.add(moves.pos, -s.retraction_length, feed["retract"])
+    moves.add(moves.pos, -s.retraction_length, round(60 * s.retraction_speed) / 60)
     moves.add([*(moves.pos[:2]), top], 0.0, 10.0)
     seconds += moves.seconds(s)
     if totals is not None:
-        totals.update(seconds=seconds, filament=filament)
+        totals.update(seconds=seconds, filament=filament, layer_seconds=layer_seconds)
     yield (f"; end\nG1 E{-s.retraction_length:.5f} F{60 * s.retraction_speed:.0f}\n"
            f"G1 Z{top:.3f} F600\n" + render_gcode(s.end_gcode if s.end_gcode is not None else MARLIN_END, s))
     yield (f"\n; filament used [mm] = {filament:.2f}\n"
            f"; filament used [cm3] = {filament * s.filament_area / 1000:.2f}\n"
            f"; estimated printing time (normal mode) = {format_duration(seconds)}\n")
+
+
+def _fan_command(percent: int) -> str:
+    """The fan at a percentage, as PrusaSlicer writes it."""
+    return f"M106 S{int(255 * percent / 100)}\n" if percent > 0 else "M107\n"
+
+
+def layer_fan(k: int, seconds: float, s) -> int:
+    """The part-cooling fan (percent) for layer k, which prints in `seconds`.
+
+    Off for the first `fan_off_layers` layers; then `fan_speed`, raised towards full as the
+    layer's time falls from `fan_below_layer_time` to `min_layer_time` (a small layer has
+    less time to cool).
+
+    Examples
+    --------
+    >>> from slicelab.toolpath import PrintSettings
+    >>> s = PrintSettings(fan_speed=40, fan_below_layer_time=60, min_layer_time=5)
+    >>> [layer_fan(0, 100, s), layer_fan(3, 100, s), layer_fan(3, 32.5, s), layer_fan(3, 2, s)]
+    [0, 40, 70, 100]
+    """
+    if k < s.fan_off_layers or s.fan_speed <= 0:
+        return 0
+    lo, hi = s.min_layer_time, s.fan_below_layer_time
+    share = 0.0 if hi <= lo else float(np.clip((hi - seconds) / (hi - lo), 0.0, 1.0))
+    return int(round(s.fan_speed + (100 - s.fan_speed) * share))
+
+
+def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: float):
+    """One layer's moves as G-code text (without its header), the nozzle's end position and the
+    filament it uses; extrusion speeds times `factor` (not below `min_print_speed`).
+
+    The layer's fan command is left as a marker where bridges change it back.
+    """
+    k_e = s.extrusion_multiplier / s.filament_area
+    speeds = {"external": s.external_perimeter_speed, "internal": s.perimeter_speed,
+              "hole": s.external_perimeter_speed, "gap_fill": s.gap_fill_speed, "sparse": s.infill_speed,
+              "solid": s.solid_infill_speed, "top": s.top_solid_infill_speed, "bridge": s.bridge_speed,
+              "skirt": s.first_layer_speed, "brim": s.first_layer_speed}
+    feed = {name: round(60 * v) / 60 for name, v in (("travel", s.travel_speed), ("retract", s.retraction_speed))}
+    z = lp.z + 0.0
+    out = [f"G1 Z{z:.3f} F{60 * s.travel_speed:.0f}\n"]
+    moves.add([*(moves.pos[:2]), z], 0.0, feed["travel"])
+    filament = 0.0
+    current_type = None
+    for kind, (_, path, width) in zip(lp.kinds(), lp.ordered()):  # over paths
+        xy = path + off[:2]
+        if kind != current_type:
+            if current_type == "bridge":
+                out.append("\x00FAN\x00")  # the layer's own fan again after a bridge
+            out.append(f";TYPE:{STYLES[kind].gcode_type}\n")
+            if kind == "bridge":
+                out.append("M106 S255\n")  # bridge threads set in the air: full cooling
+            current_type = kind
+        if pos is None or np.hypot(*(xy[0] - pos)) > 1e-9:
+            travel = math.inf if pos is None else float(np.hypot(*(xy[0] - pos)))
+            x0, y0 = xy[0]
+            if travel > s.retract_min_travel and s.retraction_length > 0:
+                out.append(f"G1 E{-s.retraction_length:.5f} F{60 * s.retraction_speed:.0f}\n")
+                moves.add(moves.pos, -s.retraction_length, feed["retract"])
+                if s.z_lift > 0:
+                    out.append(f"G1 Z{z + s.z_lift:.3f} F{60 * s.travel_speed:.0f}\n")
+                    moves.add([*(moves.pos[:2]), z + s.z_lift], 0.0, feed["travel"])
+                out.append(f"G0 X{x0:.3f} Y{y0:.3f} F{60 * s.travel_speed:.0f}\n")
+                moves.add([x0, y0, z + s.z_lift], 0.0, feed["travel"])
+                if s.z_lift > 0:
+                    out.append(f"G1 Z{z:.3f}\n")
+                    moves.add([x0, y0, z], 0.0, feed["travel"])
+                out.append(f"G1 E{s.retraction_length:.5f} F{60 * s.retraction_speed:.0f}\n")
+                moves.add([x0, y0, z], s.retraction_length, feed["retract"])
+            else:
+                out.append(f"G0 X{x0:.3f} Y{y0:.3f} F{60 * s.travel_speed:.0f}\n")
+                moves.add([x0, y0, z], 0.0, feed["travel"])
+        seg = np.hypot(*np.diff(xy, axis=0).T)
+        w = np.full(len(xy), width) if np.isscalar(width) else np.asarray(width)
+        wm = 0.5 * (w[:-1] + w[1:])
+        speed = s.first_layer_speed if k == 0 else speeds[kind]
+        if factor < 1:
+            speed = max(min(speed, s.min_print_speed), speed * factor)
+        e = wm * h * seg * (k_e * s.bridge_flow_ratio if kind == "bridge" else k_e)
+        out.append(f";WIDTH:{float(np.mean(wm)):.3f}\nG1 F{60 * speed:.0f}\n")
+        out.append(_fmt(xy[1:], e) + "\n")
+        moves.add(np.column_stack([xy[1:], np.full(len(xy) - 1, z)]), e, round(60 * speed) / 60)
+        filament += float(np.round(e, 5).sum())
+        pos = xy[-1]
+    if current_type == "bridge":
+        out.append("\x00FAN\x00")
+    return "".join(out), pos, filament
 
 
 def write_gcode(plan, path) -> dict:
@@ -201,7 +258,7 @@ def write_gcode(plan, path) -> dict:
     >>> text = open(out).read(); text.count(";LAYER_CHANGE"), ";TYPE:External perimeter" in text
     (3, True)
     >>> text.splitlines()[-1], round(totals["seconds"])
-    ('; estimated printing time (normal mode) = 16s', 16)
+    ('; estimated printing time (normal mode) = 19s', 19)
     """
     totals: dict = {}
     with atomic_open(path, "w", encoding="utf-8") as fh:

@@ -90,13 +90,18 @@ class Motion:
 
 @dataclass(frozen=True)
 class Cooling:
-    """Temperatures (degrees Celsius) and the part-cooling fan: off for the first
-    `fan_off_layers` layers, then at `fan_speed` percent."""
+    """Temperatures (degrees Celsius) and cooling: the part-cooling fan is off for the first
+    `fan_off_layers` layers, then at `fan_speed` percent, raised towards full for layers that
+    print in less than `fan_below_layer_time` seconds; a layer quicker than `min_layer_time`
+    is slowed to last that long (speeds not below `min_print_speed`, mm/s)."""
 
     nozzle_temperature: float = 210.0
     bed_temperature: float = 60.0
     fan_speed: float = 100.0
     fan_off_layers: int = 1
+    fan_below_layer_time: float = 60.0
+    min_layer_time: float = 5.0
+    min_print_speed: float = 10.0
 
 
 @dataclass(frozen=True)
@@ -223,7 +228,7 @@ class PrintSettings:
         positive = ("layer_height", "first_layer_height", "line_width", "nozzle_diameter", "filament_diameter",
                     "extrusion_multiplier", "perimeter_speed", "external_perimeter_speed", "infill_speed",
                     "solid_infill_speed", "top_solid_infill_speed", "bridge_speed", "bridge_flow_ratio", "gap_fill_speed", "first_layer_speed", "travel_speed",
-                    "retraction_speed", "pixel_size", "acceleration", "jerk", "max_height")
+                    "retraction_speed", "min_print_speed", "pixel_size", "acceleration", "jerk", "max_height")
         for name in positive:
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and v > 0 and math.isfinite(v)):
@@ -237,7 +242,8 @@ class PrintSettings:
         if not (isinstance(self.overhang_threshold, (int, float)) and 0 < self.overhang_threshold < 90):
             raise ValueError(f"overhang_threshold must be an angle from the vertical between 0 and 90 degrees, "
                              f"got {self.overhang_threshold!r}")
-        for name in ("retraction_length", "retract_min_travel", "z_lift", "skirt_distance", "brim_width"):
+        for name in ("retraction_length", "retract_min_travel", "z_lift", "skirt_distance", "brim_width",
+                     "fan_below_layer_time", "min_layer_time"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and v >= 0 and math.isfinite(v)):
                 raise ValueError(f"{name} must be a number >= 0, got {v!r}")
