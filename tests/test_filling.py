@@ -105,14 +105,22 @@ def test_fill_lines_against_shapely_intersection():
 def test_layer_paths_order_and_formalism():
     s = slicelab.section(nested_shells(), (0, 0, 20), (0, 0, 1))
     lp = layer_paths(s, 0.4, 2, 0.2, pixel_size=0.1)
-    # Two islands (the outer wall, the cube in the cavity): each printed outer perimeter first,
-    # then its inner perimeters, then its filling.
-    assert len(lp.external_contour_segments) == 2
-    roles = [r for r, _ in lp.sequence]
-    firsts = [i for i, r in enumerate(roles) if r == "external"]
-    for start, stop in zip(firsts, firsts[1:] + [len(roles)]):
-        block = roles[start:stop]
-        assert block == sorted(block, key=["external", "internal", "gap_fill", "filling"].index)
+    first = layer_paths(s, 0.4, 2, 0.2, pixel_size=0.1, external_first=True)
+    # Two islands (the outer wall with its cavity, the cube in the cavity): each prints its
+    # perimeters, then its gap fill and filling. By default the innermost perimeter goes first and
+    # the outer one last; with external_first, the outer one (and the cavity's wall) first.
+    walls = ("internal", "hole", "external")
+    for paths, outer_first in ((lp, False), (first, True)):
+        assert len(paths.external_contour_segments) == 2
+        kinds = paths.kinds()
+        starts = [i for i, k in enumerate(kinds) if k in walls and (i == 0 or kinds[i - 1] not in walls)]
+        assert len(starts) == 2, kinds
+        for start, stop in zip(starts, starts[1:] + [len(kinds)]):
+            block = kinds[start:stop]
+            n = sum(k in walls for k in block)
+            assert all(k in walls for k in block[:n]) and not any(k in walls for k in block[n:])
+            assert block[0 if outer_first else n - 1] == "external", block
+        assert "hole" in kinds  # the cavity's wall: an outer wall of its own kind
     for q in lp.external_contour_segments + lp.internal_contour_segments:
         np.testing.assert_array_equal(q[0], q[-1])
     # Travel is exactly the gaps between consecutive paths.

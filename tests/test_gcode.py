@@ -420,3 +420,37 @@ def test_cli_slice_with_the_new_settings(tmp_path, data_dir):
         r = subprocess.run([sys.executable, "-m", "slicelab", "slice", stl, "-o", str(out), *bad],
                            capture_output=True, text=True)
         assert r.returncode == 2 and r.stderr.count("\n") == 1 and flag in r.stderr, r.stderr
+
+
+@pytest.mark.parametrize("seam", ["rear", "aligned", "nearest"])
+def test_seams(seam):
+    from slicelab.samples import sphere
+    pp = plan(sphere(10.0, 24, 48), PrintSettings(**FAST, seam_position=seam), workers=1)
+    starts = []
+    for lp in pp.layers:
+        for kind, q, _ in lp.rows({"external", "hole", "internal"}):
+            np.testing.assert_array_equal(q[0], q[-1])  # loops closed at their seam
+            if kind == "external":
+                starts.append(q[0])
+                if seam == "rear":  # the rearmost vertex, of every loop
+                    assert q[0, 1] >= q[:, 1].max() - 1e-9
+    starts = np.array(starts)
+    step = np.hypot(*np.diff(starts, axis=0).T)
+    if seam == "aligned":
+        # Each seam is the vertex nearest the one below: a seam line up the sphere, a step at most
+        # about the distance between the sphere's vertices on the layer.
+        assert np.median(step) < 1.0 and starts[:, 1].mean() > 5.0
+
+
+def test_hole_walls_are_their_own_kind_printed_as_external_perimeters(cube):
+    mesh, s, pp, text, g, totals = cube
+    lp = pp.layers[5]
+    holes = [q for _, q, _ in lp.rows({"hole"})]
+    assert len(holes) == 1
+    r = np.hypot(*(holes[0] - [10, 10]).T)  # the hole of radius 5, its wall half a line inside the part
+    assert np.allclose(r, 5 + s.line_width / 2, atol=0.02)
+    # In G-code: PrusaSlicer's word for an outer wall, at the external perimeter speed.
+    i = text.index(";LAYER:5\n")
+    layer = text[i:text.index(";LAYER:6\n")]
+    assert layer.count(";TYPE:External perimeter") == 2
+    assert f"F{60 * s.external_perimeter_speed:.0f}" in layer

@@ -161,6 +161,11 @@ def _add_slice(sub) -> None:
                              ("--fan-below-layer-time", float, "S"), ("--min-print-speed", positive, "MM/S")):
         p.add_argument(flag, type=kind, default=GIVEN, metavar=meta)
     p.add_argument("--nozzle-diameter", type=positive, default=GIVEN, metavar="MM")
+    p.add_argument("--seam-position", choices=("aligned", "rear", "nearest"), default=GIVEN,
+                   help="where perimeter loops start: aligned with the layer below (default), at the rear, or "
+                        "nearest the nozzle")
+    p.add_argument("--external-perimeters-first", action="store_const", const=True, default=GIVEN,
+                   help="print each island's outer perimeter before the inner ones (default: last)")
     g = p.add_argument_group("printer and settings files")
     g.add_argument("--printer", default=GIVEN, metavar="NAME",
                    help="a bundled printer profile: prusa-mk3 (default values), generic-marlin-220, "

@@ -42,11 +42,11 @@ _WHERE = {"PRINTERS": "printers", "FLAVORS": "printers", "resolve_settings": "pr
           "skirt_margin": "skirt", "with_skirt": "skirt", "move_times": "estimate", "format_duration": "estimate",
           "check_bed": "bed", "ISLAND_ROLES": "roles",
           "ROLES": "roles", "FILLING_KINDS": "roles", "KINDS": "roles", "ROLE_OF": "roles", "RoleStyle": "roles", "STYLES": "roles",
-          "LayerPaths": "table", "layer_paths": "paths", "coverage_map": "paths", "covered_pixels": "paths",
+          "LayerPaths": "table", "SEAMS": "paths", "layer_paths": "paths", "coverage_map": "paths", "covered_pixels": "paths",
           "PrintPlan": "planner", "plan": "planner", "layer_bounds": "planner",
           "PrintSettings": "settings", "settings_dict": "settings", "Bridge": "overhangs", "LayerOverhangs": "overhangs", "layer_overhangs": "overhangs", "setting_names": "settings",
           "Extrusion": "settings", "Infill": "settings", "Skins": "settings", "Motion": "settings",
-          "Cooling": "settings", "Adhesion": "settings", "Machine": "settings", "Raster": "settings",
+          "Cooling": "settings", "Adhesion": "settings", "Walls": "settings", "Machine": "settings", "Raster": "settings",
           "GROUPS": "settings"}
 
 
@@ -59,7 +59,7 @@ __all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_con
            "skirt_margin", "with_skirt", "move_times", "format_duration", "check_bed", "ISLAND_ROLES", "ROLES",
            "FILLING_KINDS", "KINDS", "ROLE_OF", "RoleStyle", "STYLES", "LayerPaths", "layer_paths", "coverage_map", "covered_pixels", "PrintSettings",
            "PrintPlan", "plan", "layer_bounds", "settings_dict", "setting_names", "Extrusion", "Infill", "Skins",
-           "Motion", "Cooling", "Adhesion", "Machine", "Raster", "GROUPS", "Bridge", "LayerOverhangs",
+           "Motion", "Cooling", "Adhesion", "Machine", "Raster", "Walls", "GROUPS", "SEAMS", "Bridge", "LayerOverhangs",
            "layer_overhangs"]
 
 

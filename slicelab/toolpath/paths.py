@@ -36,12 +36,23 @@ from .roles import ISLAND_ROLES
 from .simplify import simplify_paths, simplify_rings
 from .table import LayerPaths
 
-__all__ = ["layer_paths", "coverage_map", "covered_pixels"]
+__all__ = ["SEAMS", "layer_paths", "coverage_map", "covered_pixels"]
 
 
-def _closed_from(ring: np.ndarray, pos: np.ndarray) -> np.ndarray:
-    """The ring as a closed polyline starting at its vertex nearest `pos` (the seam)."""
-    k = int(np.argmin(np.hypot(*(ring - pos).T)))
+#: Where a loop starts (its seam): the vertex nearest the nozzle, the rearmost (largest y), or
+#: the one nearest the seam of the layer below (`layer_paths`' `seam_point`; rearmost without one).
+SEAMS = ("nearest", "rear", "aligned")
+
+
+def _closed_from(ring: np.ndarray, pos: np.ndarray, seam: str = "nearest", seam_point=None) -> np.ndarray:
+    """The ring as a closed polyline starting at its seam vertex (`SEAMS`)."""
+    if seam == "aligned" and seam_point is not None:
+        k = int(np.argmin(np.hypot(*(ring - np.asarray(seam_point)).T)))
+    elif seam in ("rear", "aligned"):
+        back = np.flatnonzero(ring[:, 1] >= ring[:, 1].max() - 1e-9)
+        k = int(back[np.argmin(ring[back, 0])])  # the rearmost, then leftmost
+    else:
+        k = int(np.argmin(np.hypot(*(ring - pos).T)))
     r = np.roll(ring, -k, axis=0)
     return np.vstack([r, r[:1]])
 
@@ -64,7 +75,8 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
                 rule: str = "nonzero", overlap: float = 0.15, solid: GridMask | None = None,
                 solid_angle: float | None = None, top=None, bridges=(), start=None, raster: LayerRaster | None = None,
                 tolerance: float | None = None, pattern: str = "rectilinear",
-                resolution: float = 0.0125) -> LayerPaths:
+                resolution: float = 0.0125, seam: str = "nearest", seam_point=None,
+                external_first: bool = False) -> LayerPaths:
     """The toolpaths of one layer: perimeters, gap fill and filling, in print order.
 
     Parameters
@@ -108,6 +120,15 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
         solid filling is rectilinear.
     resolution : float, default 0.0125
         Every path is simplified to this tolerance (mm; 0 keeps every vertex).
+    seam : {"nearest", "rear", "aligned"}
+        Where each perimeter loop starts (`SEAMS`): nearest the nozzle, at the rear, or
+        nearest `seam_point` (the planner passes the seam of the layer below).
+    seam_point : (2,) array_like, optional
+        For ``seam="aligned"``.
+    external_first : bool, default False
+        Print each island's outer perimeter (and its holes' walls) before the inner ones;
+        by default the perimeters go from the innermost out, the outer one last, so it is laid
+        against material already there.
 
     Returns
     -------
@@ -130,7 +151,7 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
     >>> len(lp.external_contour_segments), len(lp.internal_contour_segments), len(lp.filling_segments)
     (1, 1, 1)
     >>> lp.sequence[:2]
-    (('external', 0), ('internal', 0))
+    (('internal', 0), ('external', 0))
     """
     w = float(line_width)
     if not (0 <= infill_density <= 1):
@@ -175,12 +196,14 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
     level0 = per.rings[0] if per.rings else []
     exteriors = [p.exterior for p in level0] if level0 else [p.exterior for p in section.polygons]
     areas = np.array([abs(signed_area(e)) for e in exteriors])
-    loops_internal = []  # (level, ring)
+    if seam not in SEAMS:
+        raise ValueError(f"seam must be one of {', '.join(SEAMS)}, got {seam!r}")
+    loops_internal = []  # (level, ring, kind): inner perimeters, and the walls of holes at level 0
     for k, polys in enumerate(per.rings):
         for p in polys:
             if k > 0:
-                loops_internal.append((k, p.exterior))
-            loops_internal += [(k, h) for h in p.holes]
+                loops_internal.append((k, p.exterior, "internal"))
+            loops_internal += [(k, h, "hole" if k == 0 else "internal") for h in p.holes]
     groups: dict[int, dict[str, list]] = {}
 
     def put(island, role, item):
@@ -190,7 +213,7 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
         for i in range(len(level0)):
             put(i, "external", i)
     rep = lambda items: np.array([x[0] for x in items]).reshape(-1, 2)  # noqa: E731
-    owner = _island_of(rep([r for _, r in loops_internal]), exteriors, areas)
+    owner = _island_of(rep([r for _, r, _ in loops_internal]), exteriors, areas)
     for j, o in enumerate(owner):
         put(o, "internal", j)
     loose = -1
@@ -253,19 +276,24 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
     while remaining:  # over islands, nearest first
         key = min(remaining, key=lambda g: float(np.min(np.hypot(*(entry_points(remaining[g]) - pos).T))))
         g = remaining.pop(key)
-        for j in g["external"]:
-            path = _closed_from(level0[j].exterior, pos)
-            go(path)
-            out_kind.append("external"), out_paths.append(path), out_w.append(w)
-        todo = sorted(g["internal"], key=lambda j: loops_internal[j][0])
-        while todo:  # level by level, nearest loop first
-            level = loops_internal[todo[0]][0]
-            same = [j for j in todo if loops_internal[j][0] == level]
-            j = min(same, key=lambda j: float(np.min(np.hypot(*(loops_internal[j][1] - pos).T))))
-            todo.remove(j)
-            path = _closed_from(loops_internal[j][1], pos)
-            go(path)
-            out_kind.append("internal"), out_paths.append(path), out_w.append(w)
+        # The island's loops: its outer perimeter, its holes' walls and the inner perimeters,
+        # level by level (outer level first, or innermost first with the outer loop last).
+        loops = [(0, level0[j].exterior, "external") for j in g["external"]]
+        loops += [loops_internal[j] for j in g["internal"]]
+        order = sorted(set(lv for lv, _, _ in loops), reverse=not external_first)
+        for level in order:  # over perimeter levels, few
+            same = [lp for lp in loops if lp[0] == level]
+            outer = [lp for lp in same if lp[2] == "external"]
+            rest = [lp for lp in same if lp[2] != "external"]
+            queue = outer + rest if external_first else rest
+            while queue or (not external_first and outer):
+                if not queue:
+                    queue, outer = outer, []
+                i = min(range(len(queue)), key=lambda i: float(np.min(np.hypot(*(queue[i][1] - pos).T))))
+                lp = queue.pop(i)
+                path = _closed_from(lp[1], pos, seam, seam_point)
+                go(path)
+                out_kind.append(lp[2]), out_paths.append(path), out_w.append(w)
         for role, source in (("gap_fill", gap_fill), ("filling", fills)):
             todo = list(g[role])
             while todo:  # nearest end first

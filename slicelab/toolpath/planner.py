@@ -213,7 +213,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     rasters = {j: rasterize(sec, s.pixel_size, rule=s.rule) for j, sec in window.items()}
     masks = {j: (r.combined() if r.tiles else None) for j, r in rasters.items()}
     out = []
-    pos = None
+    pos = seam = None  # the nozzle, and the seam of the layer below (for aligned seams)
     for k in range(first, stop):  # over layers
         solid, top = _skin_masks(k, masks, n, s)
         ov = None
@@ -232,7 +232,11 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
         lp = layer_paths(sections[k], s.line_width, s.n_perimeters, s.infill_density, s.infill_angle,
                          s.pixel_size, layer_index=k, rule=s.rule, overlap=s.infill_overlap, solid=solid,
                          solid_angle=solid_angle, top=top, bridges=ov.bridges if ov else (), start=pos, raster=rasters[k], pattern=s.infill_pattern,
-                         resolution=s.gcode_resolution)
+                         resolution=s.gcode_resolution, seam=s.seam_position, seam_point=seam,
+                         external_first=s.external_perimeters_first)
+        outer = [q for kind, q, _ in lp.rows({"external"})]
+        if outer:
+            seam = outer[0][0]
         areas = _areas(lp, rasters[k], solid, s)
         lp = with_skirt(lp, skirt, brim)
         items = list(lp.ordered())

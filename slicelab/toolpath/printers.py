@@ -115,7 +115,7 @@ def format_config(settings) -> str:
     Examples
     --------
     >>> from slicelab.toolpath import PrintSettings
-    >>> print(format_config(PrintSettings()).split("\\n[infill]")[0])
+    >>> print(format_config(PrintSettings()).split("\\n[walls]")[0])
     [extrusion]
     layer_height = 0.2
     first_layer_height = 0.2

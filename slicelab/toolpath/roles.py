@@ -3,8 +3,10 @@
 A layer's paths come in six lists (`ROLES`): the first layer's skirt and brim,
 printed first, then each island's four (`ISLAND_ROLES`, in the order an
 island prints them). Filling is sparse, solid, top skin (solid filling
-that the layer above leaves exposed) or bridge (lines laid across a gap), so
-an extrusion is one of nine kinds (`KINDS`), each with its role (`ROLE_OF`). `STYLES` names each kind once for every output: the
+that the layer above leaves exposed) or bridge (lines laid across a gap); the
+outer wall of a hole is its own kind, ``hole`` (an external perimeter in
+PrusaSlicer's words, an internal loop by role). So an extrusion is one of ten
+kinds (`KINDS`), each with its role (`ROLE_OF`). `STYLES` names each kind once for every output: the
 ``;TYPE:`` word PrusaSlicer's G-code viewer reads (PrusaSlicer writes skirt and
 brim alike as ``Skirt/Brim``), that viewer's colour (used in the per-layer
 SVGs) and the colour on white matplotlib axes (gap fill, white in the viewer,
@@ -32,9 +34,9 @@ ROLES = ("skirt", "brim", *ISLAND_ROLES)
 #: What a filling path is.
 FILLING_KINDS = ("sparse", "solid", "top", "bridge")
 #: The kind of an extrusion: its role, with filling split into its kinds.
-KINDS = ("skirt", "brim", "external", "internal", "gap_fill", *FILLING_KINDS)
+KINDS = ("skirt", "brim", "external", "hole", "internal", "gap_fill", *FILLING_KINDS)
 #: The role of each kind: filling kinds are filling, the others their own role.
-ROLE_OF = {k: ("filling" if k in FILLING_KINDS else k) for k in KINDS}
+ROLE_OF = {k: ("filling" if k in FILLING_KINDS else "internal" if k == "hole" else k) for k in KINDS}
 
 
 class RoleStyle(NamedTuple):
@@ -59,6 +61,7 @@ STYLES = {
     "skirt": RoleStyle("Skirt/Brim", "#00876e", "#00876e"),
     "brim": RoleStyle("Skirt/Brim", "#00876e", "#00876e"),
     "external": RoleStyle("External perimeter", "#e8590c", "#e8590c"),
+    "hole": RoleStyle("External perimeter", "#e8590c", "#c2255c"),
     "internal": RoleStyle("Perimeter", "#f59f00", "#f59f00"),
     "gap_fill": RoleStyle("Gap fill", "#ffffff", "#1c7ed6"),
     "sparse": RoleStyle("Internal infill", "#b02e26", "#b02e26"),

@@ -1,7 +1,8 @@
 """Print settings, in groups: what each stage of the slicer reads.
 
-`PrintSettings` holds eight small frozen groups, one per concern: `Extrusion`
-(layers, lines, nozzle, filament, the G-code resolution), `Infill`, `Skins`,
+`PrintSettings` holds nine small frozen groups, one per concern: `Extrusion`
+(layers, lines, nozzle, filament, the G-code resolution), `Walls` (seams and
+the order of perimeters), `Infill`, `Skins` (and the overhang threshold),
 `Motion` (speeds, retraction, acceleration), `Cooling` (temperatures and the
 fan), `Adhesion` (skirt and brim), `Machine` (bed, height, flavour, start and
 end G-code, the limits the printer sets) and `Raster` (the pixel grid of the
@@ -21,7 +22,7 @@ from dataclasses import asdict, dataclass, fields, replace
 
 import numpy as np
 
-__all__ = ["Extrusion", "Infill", "Skins", "Motion", "Cooling", "Adhesion", "Machine", "Raster", "GROUPS",
+__all__ = ["Extrusion", "Walls", "Infill", "Skins", "Motion", "Cooling", "Adhesion", "Machine", "Raster", "GROUPS",
            "PrintSettings", "settings_dict", "setting_names"]
 
 
@@ -40,6 +41,16 @@ class Extrusion:
     extrusion_multiplier: float = 1.0
     gcode_resolution: float = 0.0125
     bridge_flow_ratio: float = 1.0
+
+
+@dataclass(frozen=True)
+class Walls:
+    """Perimeter loops: where each starts (`seam_position`: ``"aligned"`` with the layer below,
+    ``"rear"`` or ``"nearest"`` the nozzle) and whether an island's outer perimeter goes first
+    (by default the innermost goes first and the outer one last)."""
+
+    seam_position: str = "aligned"
+    external_perimeters_first: bool = False
 
 
 @dataclass(frozen=True)
@@ -142,7 +153,7 @@ class Raster:
 
 
 #: The groups of `PrintSettings`, by attribute name.
-GROUPS = {"extrusion": Extrusion, "infill": Infill, "skins": Skins, "motion": Motion, "cooling": Cooling,
+GROUPS = {"extrusion": Extrusion, "walls": Walls, "infill": Infill, "skins": Skins, "motion": Motion, "cooling": Cooling,
           "adhesion": Adhesion, "machine": Machine, "raster": Raster}
 _GROUP_OF = {f.name: g for g, cls in GROUPS.items() for f in fields(cls)}
 
@@ -165,7 +176,7 @@ class PrintSettings:
 
     Parameters
     ----------
-    extrusion, infill, skins, motion, cooling, adhesion, machine, raster : optional
+    extrusion, walls, infill, skins, motion, cooling, adhesion, machine, raster : optional
         The groups (`Extrusion`, ...); left out, their defaults.
     **settings
         Any field of any group by its plain name, applied over the groups.
@@ -189,6 +200,7 @@ class PrintSettings:
     """
 
     extrusion: Extrusion
+    walls: Walls
     infill: Infill
     skins: Skins
     motion: Motion
@@ -197,9 +209,9 @@ class PrintSettings:
     machine: Machine
     raster: Raster
 
-    def __init__(self, extrusion=None, infill=None, skins=None, motion=None, cooling=None, adhesion=None,
-                 machine=None, raster=None, **settings):
-        given = dict(extrusion=extrusion, infill=infill, skins=skins, motion=motion, cooling=cooling,
+    def __init__(self, extrusion=None, walls=None, infill=None, skins=None, motion=None, cooling=None,
+                 adhesion=None, machine=None, raster=None, **settings):
+        given = dict(extrusion=extrusion, walls=walls, infill=infill, skins=skins, motion=motion, cooling=cooling,
                      adhesion=adhesion, machine=machine, raster=raster)
         unknown = sorted(set(settings) - set(_GROUP_OF))
         if unknown:
@@ -252,6 +264,10 @@ class PrintSettings:
                              f"got {self.gcode_resolution!r}")
         if not (isinstance(self.fan_speed, (int, float)) and 0 <= self.fan_speed <= 100):
             raise ValueError(f"fan_speed must be a percentage from 0 to 100, got {self.fan_speed!r}")
+        if self.seam_position not in ("nearest", "rear", "aligned"):
+            raise ValueError(f"seam_position must be nearest, rear or aligned, got {self.seam_position!r}")
+        if not isinstance(self.external_perimeters_first, (bool, np.bool_)):
+            raise ValueError(f"external_perimeters_first must be true or false, got {self.external_perimeters_first!r}")
         if self.rule not in ("nonzero", "evenodd"):
             raise ValueError(f"rule must be 'nonzero' or 'evenodd', got {self.rule!r}")
         if self.infill_pattern not in PATTERNS:

@@ -139,7 +139,7 @@ def with_skirt(paths, skirt: list, brim: list):
     >>> s = slicelab.section(box((0, 0, 0), (10, 10, 1)), (0, 0, .5), (0, 0, 1))
     >>> lp = with_skirt(slicelab.layer_paths(s, pixel_size=0.1), *skirt_loops(s, 0.4))
     >>> lp.kinds()[:3]
-    ['skirt', 'external', 'internal']
+    ['skirt', 'internal', 'external']
     """
     if not (skirt or brim):
         return paths

@@ -58,7 +58,7 @@ class LayerPaths:
     >>> s = slicelab.section(box((0, 0, 0), (10, 6, 1)), (0, 0, .5), (0, 0, 1))
     >>> lp = slicelab.layer_paths(s, 0.4, 2, 1.0, pixel_size=0.1)
     >>> lp.kind
-    ('external', 'internal', 'sparse')
+    ('internal', 'external', 'sparse')
     >>> len(lp), [len(v) for v in (lp.external_contour_segments, lp.internal_contour_segments,
     ...                            lp.filling_segments)]
     (3, [1, 1, 1])
