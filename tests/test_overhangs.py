@@ -134,3 +134,32 @@ def test_slice_says_what_will_not_print(tmp_path):
 def test_bad_overhang_threshold_is_refused():
     with pytest.raises(ValueError, match="overhang_threshold"):
         PrintSettings(overhang_threshold=95)
+
+
+def test_several_files_print_side_by_side_on_one_bed(tmp_path):
+    a, b = tmp_path / "a.stl", tmp_path / "b.stl"
+    slicelab.save(box((0, 0, 0), (20, 20, 4)), a)
+    slicelab.save(box((-50, 30, 2), (-40, 60, 10)), b)  # 10 x 30 x 8, off in space
+    out = tmp_path / "two.gcode"
+    r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(a), str(b), "-o", str(out),
+                        "--pixel-size", "0.1", "--workers", "1", "--skirt-loops", "0"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "2 parts on one bed" in r.stdout
+    from test_plan import parse_gcode
+    moves, zs, _, _ = parse_gcode(out.read_text())
+    ext = np.array([(layer, x1, y1) for layer, z, x0, y0, x1, y1, e, word, role in moves if e > 0 and layer >= 0])
+    assert len(zs) == 40  # both stand on the bed: the taller, 8 mm, sets the layers
+    assert ext[:, 1].min() >= 0 and ext[:, 1].max() <= 250 and ext[:, 2].min() >= 0 and ext[:, 2].max() <= 210
+    first = ext[ext[:, 0] == 0][:, 1:]
+    gaps = [np.diff(np.sort(first[:, i])).max() for i in (0, 1)]
+    assert max(gaps) >= 5.0 - 0.4  # two islands, the spacing between them (less a line width)
+    top = ext[ext[:, 0] == 35][:, 1:]  # 7.0 - 7.2 mm: the second part only, upright as given
+    size = np.sort(top.max(axis=0) - top.min(axis=0))
+    assert np.allclose(size, [10 - 0.4, 30 - 0.4], atol=0.05)
+    big = [tmp_path / f"big{i}.stl" for i in range(3)]
+    for f in big:
+        slicelab.save(box((0, 0, 0), (200, 150, 5)), f)
+    r = subprocess.run([sys.executable, "-m", "slicelab", "slice", *map(str, big), "-o", str(tmp_path / "x.gcode")],
+                       capture_output=True, text=True)
+    assert r.returncode == 2 and "need 3 beds" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+    assert not (tmp_path / "x.gcode").exists()

@@ -137,7 +137,9 @@ def _run_arrange(args) -> int:
 
 
 def _add_slice(sub) -> None:
-    p = command(sub, "slice", DOCS)
+    p = command(sub, "slice", DOCS, file=False)
+    p.add_argument("files", type=Path, nargs="+", metavar="FILE",
+                   help="the part; several are put side by side on the bed, upright as given, and print together")
     p.add_argument("-o", "--output", type=Path, required=True, metavar="OUT.gcode")
     p.add_argument("--layer-height", type=positive, default=GIVEN, metavar="H", help="(default 0.2 mm)")
     p.add_argument("--first-layer-height", type=positive, default=GIVEN, metavar="H",
@@ -189,17 +191,40 @@ def _run_slice(args) -> int:
         from ..toolpath.printers import format_config
         print(format_config(slice_settings(job_parameters("slice", **params))), end="")
         return 0
-    r = run_job("slice", args.file, params, args.preview_dir, paths={"gcode": args.output})
+    mesh, name = None, args.files[0]
+    if len(args.files) > 1:
+        mesh, name = _on_one_bed(args, params), f"{len(args.files)} parts on one bed"
+    r = run_job("slice", args.files[0], params, args.preview_dir, paths={"gcode": args.output}, mesh=mesh)
     s = r.results
     say_repair(r)
     warn(r)
-    print(f"{args.file}: {r.n_facets} facets; {s['layers']} layers, print {s['print_length'] / 1000:.1f} m, "
+    print(f"{name}: {r.n_facets} facets; {s['layers']} layers, print {s['print_length'] / 1000:.1f} m, "
           f"filament {s['filament_length'] / 1000:.2f} m ({s['extruded_volume'] / 1000:.2f} cm3)")
     t = r.timings
-    print(f"load {t['load']:.2f} s, plan {t['compute']:.2f} s, write {t['write']:.2f} s; wrote {args.output}"
+    print(f"load {t.get('load', 0.0):.2f} s, plan {t['compute']:.2f} s, write {t['write']:.2f} s; wrote {args.output}"
           + (f" and {args.preview_dir}/" if args.preview_dir is not None else ""))
     return 0
 
+
+
+def _on_one_bed(args, params):
+    """The parts of several files side by side on the printer's bed, upright as given: one mesh."""
+    from .. import load
+    from ..slicing.plates import arrange
+    from ..tasks.fabrication import slice_settings
+    from ..tasks.jobs import job_parameters
+    s = slice_settings(job_parameters("slice", **{k: v for k, v in params.items() if k not in ("units", "scale")}))
+    reading = {k: params[k] for k in ("units", "scale") if params.get(k) is not None}
+    parts = [load(f, **reading) for f in args.files]
+    spacing = max(5.0, 2 * s.line_width * max(1, s.n_perimeters))
+    try:
+        plates = arrange(parts, (*s.bed_size, s.max_height), spacing=spacing, stand=False)
+    except ValueError as exc:  # a part larger than the bed
+        raise UsageError(f"{exc} (the bed, --bed-size / --max-height)") from None
+    if len(plates) > 1:
+        raise UsageError(f"the {len(parts)} parts need {len(plates)} beds of {s.bed_size[0]:g} x {s.bed_size[1]:g} mm "
+                         f"side by side: slice fewer at a time, or pack them with `slicelab arrange`")
+    return plates.plate_mesh(0, parts)
 
 
 #: Each command's (declare arguments, run) functions.

@@ -231,7 +231,18 @@ def _place(poly, placed, X: float, Y: float, turns, union=None, margin: float = 
     return None if best is None else best[1:]
 
 
-def arrange(pieces, build_volume, *, spacing: float = 5.0, rotate: bool = True) -> Plates:
+def _upright(piece, volume):
+    """The piece as given, for `arrange`'s ``stand=False``: no turn, or None if it cannot fit."""
+    from types import SimpleNamespace
+    lo, hi = piece.bounds
+    size = hi - lo
+    if size[2] > volume[2] + 1e-9 or min(size[:2]) > min(volume[:2]) + 1e-9 or \
+            max(size[:2]) > max(volume[:2]) + 1e-9:
+        return None
+    return SimpleNamespace(matrix=np.eye(4), turn=0.0)
+
+
+def arrange(pieces, build_volume, *, spacing: float = 5.0, rotate: bool = True, stand: bool = True) -> Plates:
     """Lay each piece on its best face and pack the pieces onto as few plates as they fit.
 
     Parameters
@@ -243,6 +254,9 @@ def arrange(pieces, build_volume, *, spacing: float = 5.0, rotate: bool = True) 
         Gap kept between pieces (mm); the plate's edge needs none.
     rotate : bool, default True
         Allow turns about z.
+    stand : bool, default True
+        Lay each piece on its best face; False keeps each piece upright as given (parts
+        put side by side to print together), only turned about z and moved.
 
     Returns
     -------
@@ -270,7 +284,7 @@ def arrange(pieces, build_volume, *, spacing: float = 5.0, rotate: bool = True) 
         raise ValueError(f"spacing must be >= 0, got {spacing!r}")
     laid, outlines, areas, fits = [], [], [], []
     for k, piece in enumerate(pieces):  # over pieces
-        place = place_for_printing(piece, (X, Y, Z), rotate=rotate)
+        place = place_for_printing(piece, (X, Y, Z), rotate=rotate) if stand else _upright(piece, (X, Y, Z))
         if place is None:
             lo, hi = piece.bounds
             raise ValueError(f"piece {k} ({' x '.join(f'{v:.4g}' for v in hi - lo)} mm) does not fit the "
