@@ -163,3 +163,67 @@ def test_several_files_print_side_by_side_on_one_bed(tmp_path):
                        capture_output=True, text=True)
     assert r.returncode == 2 and "need 3 beds" in r.stderr and len(r.stderr.strip().splitlines()) == 1
     assert not (tmp_path / "x.gcode").exists()
+
+
+def mushroom():
+    """A 4 x 4 mm stem 6 mm tall under a 16 x 16 x 2 mm cap: the cap hangs 6 mm out all round."""
+    return concat(box((6, 6, 0), (10, 10, 6)), box((0, 0, 6), (16, 16, 8)))
+
+
+def _support_rows(pp):
+    return {k: [(kind, q) for kind, q, _ in lp.rows({"support", "support_interface"})]
+            for k, lp in enumerate(pp.layers)}
+
+
+def test_supports_hold_the_cap_of_a_mushroom(tmp_path):
+    s = PrintSettings(**S, support="auto")
+    pp = plan(mushroom(), s, workers=1)
+    rows = _support_rows(pp)
+    cap = int(round(6.0 / s.layer_height))  # the cap's first layer
+    top = cap - 1 - s.support_z_gap_layers  # the supports' last layer: one empty layer under the cap
+    assert all(rows[k] for k in range(0, top + 1)) and not any(rows[k] for k in range(top + 1, len(rows)))
+    stem = np.array([[6, 6], [10, 10]])
+    for k in range(top + 1):
+        pts = np.concatenate([q for _, q in rows[k]])
+        # Under the cap, around the stem, never within the XY gap of it (less a support pixel).
+        assert pts.min() >= -0.21 and pts.max() <= 16.21  # the cap's footprint, to a support pixel
+        d = np.maximum(np.maximum(stem[0] - pts, pts - stem[1]), 0)
+        assert np.hypot(*d.T).min() >= s.support_xy_gap - 0.25
+        kinds = {kind for kind, _ in rows[k]}
+        assert kinds == ({"support_interface"} if k > top - s.support_interface_layers else {"support"}), (k, kinds)
+    # Sparse lines about support_spacing apart: the length laid is about area / spacing.
+    # Sparse lines support_spacing apart (along x on even layers): the length laid along them is
+    # about the area over the spacing (the links between lines, along the outline, left out).
+    seg = np.concatenate([np.diff(q, axis=0) for kind, q in rows[2] if kind == "support"])
+    along = np.abs(seg[:, 1]) < 1e-9
+    area = 16 * 16 - (4 + 2 * s.support_xy_gap) ** 2
+    assert np.abs(seg[along, 0]).sum() == pytest.approx(area / s.support_spacing, rel=0.2)
+    assert pp.warnings() == []  # held
+    path = tmp_path / "m.gcode"
+    write_gcode(pp, path)
+    text = path.read_text()
+    assert ";TYPE:Support material\n" in text and ";TYPE:Support material interface\n" in text
+    assert f"F{60 * s.support_speed:.0f}" in text
+
+
+def test_supports_only_where_needed():
+    for angle, wanted in ((30, False), (60, True)):
+        pp = plan(ramp(angle), PrintSettings(**S, support="auto"), workers=1)
+        got = any(_support_rows(pp).values())
+        assert got == wanted, angle
+    # A mid-air block beside a tower: its supports reach down to the bed.
+    part = concat(box((0, 0, 0), (10, 10, 6)), box((15, 0, 3), (20, 5, 6)))
+    pp = plan(part, PrintSettings(**S, support="auto"), workers=1)
+    first = np.concatenate([q for _, q in _support_rows(pp)[0]])
+    assert first[:, 0].min() > 14 and first[:, 0].max() < 21
+
+
+def test_supports_on_the_bed_only_skip_what_stands_on_the_part():
+    # A shelf under the cantilever: "auto" stands supports on the shelf, "bed" makes none there.
+    part = concat(box((0, 0, 0), (4, 10, 8)), box((4, 0, 6), (14, 10, 8)), box((0, 0, 0), (14, 10, 2)))
+    auto = plan(part, PrintSettings(**S, support="auto"), workers=1)
+    bed = plan(part, PrintSettings(**S, support="bed"), workers=1)
+    assert any(_support_rows(auto).values()) and not any(_support_rows(bed).values())
+    shelf_top = int(round(2.0 / 0.25))
+    assert not any(_support_rows(auto)[k] for k in range(shelf_top))  # standing on the shelf
+    assert "only on the bed" in bed.warnings()[0]["message"]

@@ -163,6 +163,9 @@ def _add_slice(sub) -> None:
                              ("--fan-below-layer-time", float, "S"), ("--min-print-speed", positive, "MM/S")):
         p.add_argument(flag, type=kind, default=GIVEN, metavar=meta)
     p.add_argument("--nozzle-diameter", type=positive, default=GIVEN, metavar="MM")
+    p.add_argument("--support", choices=("off", "auto", "bed"), default=GIVEN,
+                   help="support material under overhangs and mid-air islands: off (default; they are "
+                        "reported), auto (standing on the bed or the part), bed (only where they reach the bed)")
     p.add_argument("--seam-position", choices=("aligned", "rear", "nearest"), default=GIVEN,
                    help="where perimeter loops start: aligned with the layer below (default), at the rear, or "
                         "nearest the nozzle")

@@ -178,6 +178,7 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
     speeds = {"external": s.external_perimeter_speed, "internal": s.perimeter_speed,
               "hole": s.external_perimeter_speed, "gap_fill": s.gap_fill_speed, "sparse": s.infill_speed,
               "solid": s.solid_infill_speed, "top": s.top_solid_infill_speed, "bridge": s.bridge_speed,
+              "support": s.support_speed, "support_interface": s.support_speed,
               "skirt": s.first_layer_speed, "brim": s.first_layer_speed}
     feed = {name: round(60 * v) / 60 for name, v in (("travel", s.travel_speed), ("retract", s.retraction_speed))}
     z = lp.z + 0.0

@@ -67,12 +67,15 @@ class LayerOverhangs:
         Islands with no material under them at all.
     where : (2,) ndarray or None
         A point of the largest unheld part (mm), to name it in a warning.
+    unheld : tuple of (k, 2) ndarray
+        The outlines of the unheld parts (mm, pixel-edge polygons): where supports go.
     """
 
     bridges: tuple = ()
     overhang_area: float = 0.0
     mid_air: int = 0
     where: np.ndarray | None = None
+    unheld: tuple = ()
 
 
 def _crop(mask) -> tuple[int, int, tuple] | None:
@@ -159,7 +162,7 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
     min_px = 4 if min_anchor is None else max(1, int(min_anchor / (p * p)))
     grow = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * margin + 1, 2 * margin + 1))
     ring = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (5, 5))
-    bridges, area, worst, where = [], 0.0, 0, None
+    bridges, area, worst, where, outlines = [], 0.0, 0, None, []
     for k in range(1, count):  # over the hanging parts, few
         part = labels == k
         if stats[k, cv2.CC_STAT_AREA] < min_px:
@@ -177,8 +180,10 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
             continue
         px = int(stats[k, cv2.CC_STAT_AREA])
         area += px * p * p
+        contours, _ = cv2.findContours(part.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
+        outlines += [(c.reshape(-1, 2) + (col0, row0)) * p for c in contours if len(c) >= 3]
         if px > worst:
             rr, cc = np.nonzero(part)
             i = len(rr) // 2
             worst, where = px, np.array([(col0 + cc[i]) * p, (row0 + rr[i]) * p])
-    return LayerOverhangs(tuple(bridges), area, mid_air, where)
+    return LayerOverhangs(tuple(bridges), area, mid_air, where, tuple(outlines))

@@ -102,8 +102,10 @@ class PrintPlan:
         """
         ov = self.overhangs
         out = []
-        if len(ov) == 0:
+        if len(ov) == 0 or self.settings.support == "auto":  # supports hold all of it
             return out
+        held = " (supports stand only on the bed: those over the part are not held)" \
+            if self.settings.support == "bed" else "; slicelab makes no supports unless asked (--support auto)"
         z = self.z
         hang = np.flatnonzero(ov[:, 0] > 0)
         if len(hang):
@@ -112,14 +114,14 @@ class PrintPlan:
                         "layers": int(len(hang)), "first_z": float(z[hang[0]]),
                         "message": f"{ov[hang, 0].sum():.1f} mm2 over nothing on {len(hang)} layers "
                                    f"(from z = {z[hang[0]]:.2f} mm) overhang more than "
-                                   f"{self.settings.overhang_threshold:g} degrees and no bridge holds them; "
-                                   f"slicelab makes no supports (largest at x = {ov[k, 3]:.1f}, "
-                                   f"y = {ov[k, 4]:.1f} mm in the part's coordinates)"})
+                                   f"{self.settings.overhang_threshold:g} degrees and no bridge holds them "
+                                   f"(largest at x = {ov[k, 3]:.1f}, y = {ov[k, 4]:.1f} mm in the part's "
+                                   f"coordinates){held}"})
         air = np.flatnonzero(ov[:, 1] > 0)
         if len(air):
             out.append({"code": "mid_air", "islands": int(ov[air, 1].sum()), "first_z": float(z[air[0]]),
                         "message": f"{int(ov[air, 1].sum())} island(s) start in mid-air (first at z = "
-                                   f"{z[air[0]]:.2f} mm) and would print onto nothing"})
+                                   f"{z[air[0]]:.2f} mm) and would print onto nothing{held}"})
         return out
 
     def __repr__(self) -> str:
@@ -244,7 +246,8 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
             pos = items[-1][1][-1]
         where = ov.where if ov is not None and ov.where is not None else (np.nan, np.nan)
         held = (ov.overhang_area, ov.mid_air, len(ov.bridges), *where) if ov is not None else (0, 0, 0, np.nan, np.nan)
-        out.append((k, replace(lp, z=float(z_tops[k - first]), perimeters=None), areas, held))
+        out.append((k, replace(lp, z=float(z_tops[k - first]), perimeters=None), areas, held,
+                    ov.unheld if ov is not None else ()))
     return out
 
 
@@ -373,11 +376,33 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     layers = [r[1] for r in results]
     areas = np.array([r[2] for r in results]).reshape(-1, 4)
     overhangs = np.array([r[3] for r in results], np.float64).reshape(-1, 5)
+    if s.support != "off":
+        layers = _with_supports(layers, sections, [r[4] for r in results], s)
     heights = bounds[:, 1] - bounds[:, 0]
     offset = np.array([s.centre[0] - (lo[0] + hi[0]) / 2, s.centre[1] - (lo[1] + hi[1]) / 2, -lo[2]])
     t2 = time.perf_counter()
     return PrintPlan(s, layers, heights, offset, areas, float(np.sum(areas[:, 0] * heights)),
                      {"slice": t1 - t0, "paths": t2 - t1}, overhangs)
+
+
+def _with_supports(layers: list, sections: list, unheld: list, s: PrintSettings) -> list:
+    """The layers with their support material printed after the skirt and before the islands."""
+    from .supports import support_paths
+    rows = support_paths(sections, unheld, mode=s.support, line_width=s.line_width, spacing=s.support_spacing,
+                         interface_spacing=s.support_interface_spacing, xy_gap=s.support_xy_gap,
+                         z_gap_layers=s.support_z_gap_layers, interface_layers=s.support_interface_layers)
+    out = []
+    for lp, extra in zip(layers, rows):  # over layers
+        if not extra:
+            out.append(lp)
+            continue
+        first = sum(k in ("skirt", "brim") for k in lp.kind)
+        kind = lp.kind[:first] + tuple(k for k, _ in extra) + lp.kind[first:]
+        paths = lp.paths[:first] + tuple(q for _, q in extra) + lp.paths[first:]
+        widths = lp.widths[:first] + (lp.line_width,) * len(extra) + lp.widths[first:]
+        travel = float(sum(np.hypot(*(b[0] - a[-1])) for a, b in zip(paths, paths[1:])))
+        out.append(replace(lp, kind=kind, paths=paths, widths=widths, travel_length=travel))
+    return out
 
 
 def _costliest_first(chunks: list, sections: list, s: PrintSettings) -> list:

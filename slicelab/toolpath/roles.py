@@ -1,12 +1,13 @@
 """The roles of a layer's extrusions, their G-code ``;TYPE:`` words and their colours.
 
-A layer's paths come in six lists (`ROLES`): the first layer's skirt and brim,
-printed first, then each island's four (`ISLAND_ROLES`, in the order an
+A layer's paths come in seven lists (`ROLES`): the first layer's skirt and brim,
+printed first, the support material (`slicelab.toolpath.supports`: sparse or
+interface), then each island's four (`ISLAND_ROLES`, in the order an
 island prints them). Filling is sparse, solid, top skin (solid filling
 that the layer above leaves exposed) or bridge (lines laid across a gap); the
 outer wall of a hole is its own kind, ``hole`` (an external perimeter in
-PrusaSlicer's words, an internal loop by role). So an extrusion is one of ten
-kinds (`KINDS`), each with its role (`ROLE_OF`). `STYLES` names each kind once for every output: the
+PrusaSlicer's words, an internal loop by role). So an extrusion is one of
+twelve kinds (`KINDS`), each with its role (`ROLE_OF`). `STYLES` names each kind once for every output: the
 ``;TYPE:`` word PrusaSlicer's G-code viewer reads (PrusaSlicer writes skirt and
 brim alike as ``Skirt/Brim``), that viewer's colour (used in the per-layer
 SVGs) and the colour on white matplotlib axes (gap fill, white in the viewer,
@@ -30,13 +31,15 @@ __all__ = ["ROLES", "ISLAND_ROLES", "FILLING_KINDS", "KINDS", "ROLE_OF", "RoleSt
 #: The path lists of an island, in the order it prints them.
 ISLAND_ROLES = ("external", "internal", "gap_fill", "filling")
 #: The path lists of a layer: the skirt and brim (first layer only) go before the islands.
-ROLES = ("skirt", "brim", *ISLAND_ROLES)
+ROLES = ("skirt", "brim", "support", *ISLAND_ROLES)
 #: What a filling path is.
 FILLING_KINDS = ("sparse", "solid", "top", "bridge")
 #: The kind of an extrusion: its role, with filling split into its kinds.
-KINDS = ("skirt", "brim", "external", "hole", "internal", "gap_fill", *FILLING_KINDS)
+KINDS = ("skirt", "brim", "support", "support_interface", "external", "hole", "internal", "gap_fill",
+         *FILLING_KINDS)
 #: The role of each kind: filling kinds are filling, the others their own role.
-ROLE_OF = {k: ("filling" if k in FILLING_KINDS else "internal" if k == "hole" else k) for k in KINDS}
+ROLE_OF = {k: ("filling" if k in FILLING_KINDS else "internal" if k == "hole" else
+              "support" if k.startswith("support") else k) for k in KINDS}
 
 
 class RoleStyle(NamedTuple):
@@ -60,6 +63,8 @@ class RoleStyle(NamedTuple):
 STYLES = {
     "skirt": RoleStyle("Skirt/Brim", "#00876e", "#00876e"),
     "brim": RoleStyle("Skirt/Brim", "#00876e", "#00876e"),
+    "support": RoleStyle("Support material", "#00ff00", "#2f9e44"),
+    "support_interface": RoleStyle("Support material interface", "#008000", "#1b5e20"),
     "external": RoleStyle("External perimeter", "#e8590c", "#e8590c"),
     "hole": RoleStyle("External perimeter", "#e8590c", "#c2255c"),
     "internal": RoleStyle("Perimeter", "#f59f00", "#f59f00"),

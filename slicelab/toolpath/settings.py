@@ -1,8 +1,9 @@
 """Print settings, in groups: what each stage of the slicer reads.
 
-`PrintSettings` holds nine small frozen groups, one per concern: `Extrusion`
+`PrintSettings` holds ten small frozen groups, one per concern: `Extrusion`
 (layers, lines, nozzle, filament, the G-code resolution), `Walls` (seams and
 the order of perimeters), `Infill`, `Skins` (and the overhang threshold),
+`Supports`,
 `Motion` (speeds, retraction, acceleration), `Cooling` (temperatures and the
 fan), `Adhesion` (skirt and brim), `Machine` (bed, height, flavour, start and
 end G-code, the limits the printer sets) and `Raster` (the pixel grid of the
@@ -22,7 +23,7 @@ from dataclasses import asdict, dataclass, fields, replace
 
 import numpy as np
 
-__all__ = ["Extrusion", "Walls", "Infill", "Skins", "Motion", "Cooling", "Adhesion", "Machine", "Raster", "GROUPS",
+__all__ = ["Extrusion", "Walls", "Infill", "Skins", "Supports", "Motion", "Cooling", "Adhesion", "Machine", "Raster", "GROUPS",
            "PrintSettings", "settings_dict", "setting_names"]
 
 
@@ -78,6 +79,22 @@ class Skins:
 
 
 @dataclass(frozen=True)
+class Supports:
+    """Support material (`slicelab.toolpath.supports`): `support` is ``"off"``, ``"auto"``
+    (under every unheld overhang, standing on the bed or the part) or ``"bed"`` (only where a
+    column reaches the bed); sparse lines `support_spacing` apart with
+    `support_interface_layers` denser layers (`support_interface_spacing`) on top; a gap of
+    `support_xy_gap` (mm) to the part beside it and `support_z_gap_layers` layers under it."""
+
+    support: str = "off"
+    support_spacing: float = 2.0
+    support_interface_spacing: float = 0.6
+    support_interface_layers: int = 2
+    support_xy_gap: float = 0.6
+    support_z_gap_layers: int = 1
+
+
+@dataclass(frozen=True)
 class Motion:
     """Speeds by extrusion kind and for travel (mm/s), retraction and lift (mm), and the
     acceleration (mm/s^2) and jerk (mm/s) of the print-time estimate."""
@@ -88,6 +105,7 @@ class Motion:
     solid_infill_speed: float = 60.0
     top_solid_infill_speed: float = 40.0
     bridge_speed: float = 25.0
+    support_speed: float = 50.0
     gap_fill_speed: float = 20.0
     first_layer_speed: float = 20.0
     travel_speed: float = 150.0
@@ -153,7 +171,8 @@ class Raster:
 
 
 #: The groups of `PrintSettings`, by attribute name.
-GROUPS = {"extrusion": Extrusion, "walls": Walls, "infill": Infill, "skins": Skins, "motion": Motion, "cooling": Cooling,
+GROUPS = {"extrusion": Extrusion, "walls": Walls, "infill": Infill, "skins": Skins, "supports": Supports,
+          "motion": Motion, "cooling": Cooling,
           "adhesion": Adhesion, "machine": Machine, "raster": Raster}
 _GROUP_OF = {f.name: g for g, cls in GROUPS.items() for f in fields(cls)}
 
@@ -176,7 +195,7 @@ class PrintSettings:
 
     Parameters
     ----------
-    extrusion, walls, infill, skins, motion, cooling, adhesion, machine, raster : optional
+    extrusion, walls, infill, skins, supports, motion, cooling, adhesion, machine, raster : optional
         The groups (`Extrusion`, ...); left out, their defaults.
     **settings
         Any field of any group by its plain name, applied over the groups.
@@ -203,16 +222,17 @@ class PrintSettings:
     walls: Walls
     infill: Infill
     skins: Skins
+    supports: Supports
     motion: Motion
     cooling: Cooling
     adhesion: Adhesion
     machine: Machine
     raster: Raster
 
-    def __init__(self, extrusion=None, walls=None, infill=None, skins=None, motion=None, cooling=None,
-                 adhesion=None, machine=None, raster=None, **settings):
-        given = dict(extrusion=extrusion, walls=walls, infill=infill, skins=skins, motion=motion, cooling=cooling,
-                     adhesion=adhesion, machine=machine, raster=raster)
+    def __init__(self, extrusion=None, walls=None, infill=None, skins=None, supports=None, motion=None,
+                 cooling=None, adhesion=None, machine=None, raster=None, **settings):
+        given = dict(extrusion=extrusion, walls=walls, infill=infill, skins=skins, supports=supports, motion=motion,
+                     cooling=cooling, adhesion=adhesion, machine=machine, raster=raster)
         unknown = sorted(set(settings) - set(_GROUP_OF))
         if unknown:
             raise TypeError(f"PrintSettings got unknown settings: {', '.join(unknown)}")
@@ -240,12 +260,14 @@ class PrintSettings:
         positive = ("layer_height", "first_layer_height", "line_width", "nozzle_diameter", "filament_diameter",
                     "extrusion_multiplier", "perimeter_speed", "external_perimeter_speed", "infill_speed",
                     "solid_infill_speed", "top_solid_infill_speed", "bridge_speed", "bridge_flow_ratio", "gap_fill_speed", "first_layer_speed", "travel_speed",
-                    "retraction_speed", "min_print_speed", "pixel_size", "acceleration", "jerk", "max_height")
+                    "retraction_speed", "min_print_speed", "support_speed", "support_spacing",
+                    "support_interface_spacing", "pixel_size", "acceleration", "jerk", "max_height")
         for name in positive:
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and v > 0 and math.isfinite(v)):
                 raise ValueError(f"{name} must be a positive number, got {v!r}")
-        for name in ("n_perimeters", "top_layers", "bottom_layers", "fan_off_layers", "skirt_loops"):
+        for name in ("n_perimeters", "top_layers", "bottom_layers", "fan_off_layers", "skirt_loops",
+                     "support_interface_layers", "support_z_gap_layers"):
             v = getattr(self, name)
             if not (isinstance(v, (int, np.integer)) and v >= 0):
                 raise ValueError(f"{name} must be a whole number >= 0, got {v!r}")
@@ -255,7 +277,7 @@ class PrintSettings:
             raise ValueError(f"overhang_threshold must be an angle from the vertical between 0 and 90 degrees, "
                              f"got {self.overhang_threshold!r}")
         for name in ("retraction_length", "retract_min_travel", "z_lift", "skirt_distance", "brim_width",
-                     "fan_below_layer_time", "min_layer_time"):
+                     "fan_below_layer_time", "min_layer_time", "support_xy_gap"):
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and v >= 0 and math.isfinite(v)):
                 raise ValueError(f"{name} must be a number >= 0, got {v!r}")
@@ -264,6 +286,8 @@ class PrintSettings:
                              f"got {self.gcode_resolution!r}")
         if not (isinstance(self.fan_speed, (int, float)) and 0 <= self.fan_speed <= 100):
             raise ValueError(f"fan_speed must be a percentage from 0 to 100, got {self.fan_speed!r}")
+        if self.support not in ("off", "auto", "bed"):
+            raise ValueError(f"support must be off, auto or bed, got {self.support!r}")
         if self.seam_position not in ("nearest", "rear", "aligned"):
             raise ValueError(f"seam_position must be nearest, rear or aligned, got {self.seam_position!r}")
         if not isinstance(self.external_perimeters_first, (bool, np.bool_)):

@@ -1,0 +1,228 @@
+"""Support material: columns under what hangs in the air, sparse lines with a denser top.
+
+Each layer's unheld overhang (`slicelab.toolpath.overhangs`: material over
+nothing beyond the overhang threshold and held by no bridge) is projected
+down, layer by layer, on one coarse pixel grid shared by all layers (supports
+need line-width accuracy, not the perimeters' tenth of a millimetre):
+
+- a column stops where it meets the part (``"auto"``: it then stands on the
+  part's top), or is dropped wherever the part, or its XY gap, lies anywhere
+  under it (``"bed"``: supports stand only on the bed);
+- parts of a layer's support narrower than three pixels are dropped;
+- it keeps `support_xy_gap` from the part on every layer and ends
+  `support_z_gap_layers` layers under the overhang, so it breaks away;
+- its top `support_interface_layers` layers are an interface, filled densely
+  (`support_interface_spacing`); the rest is sparse lines `support_spacing`
+  apart, turned 90 degrees on alternate layers.
+
+Rasterising a layer and the projection cost the grid's pixels (the part's
+footprint at `PIXEL`, a few hundred thousand at most), one vectorised pass
+per layer.
+
+See Also
+--------
+slicelab.toolpath.planner.plan : adds the supports' paths to each layer.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..geometry.polygons import Polygon, signed_area
+from .infill import rectilinear
+from .raster import draw_polylines, winding_numbers
+
+__all__ = ["PIXEL", "SUPPORTS", "support_masks", "support_paths"]
+
+#: Pixel size (mm) of the supports' grid.
+PIXEL = 0.2
+#: Support modes: none, where needed (on the bed or the part), only where they reach the bed.
+SUPPORTS = ("off", "auto", "bed")
+
+
+def _rings_edges(rings) -> np.ndarray:
+    """Edges of closed rings, each turned counter-clockwise (outlines: all material)."""
+    out = []
+    for r in rings:  # over outlines, few
+        r = np.asarray(r, np.float64)
+        if len(r) < 3:
+            continue
+        if signed_area(r) < 0:
+            r = r[::-1]
+        out.append(np.stack([r, np.roll(r, -1, axis=0)], 1))
+    return np.concatenate(out) if out else np.zeros((0, 2, 2))
+
+
+def support_masks(sections, unheld, *, mode: str = "auto", xy_gap: float = 0.6, z_gap_layers: int = 1,
+                  interface_layers: int = 2, pixel: float = PIXEL):
+    """Where each layer's supports go, on one grid.
+
+    Parameters
+    ----------
+    sections : sequence of Section
+        The layers, bottom to top.
+    unheld : sequence of sequence of (k, 2) ndarray
+        Per layer, the outlines (mm) of what hangs in the air (`LayerOverhangs.unheld`).
+    mode : {"auto", "bed"}
+        Columns stand on the part or the bed, or only on the bed.
+    xy_gap : float, default 0.6
+        Distance kept from the part in the plane (mm).
+    z_gap_layers : int, default 1
+        Layers left empty between a support's top and the overhang.
+    interface_layers : int, default 2
+        Layers of dense interface at the top of each column.
+    pixel : float, default `PIXEL`
+
+    Returns
+    -------
+    support, interface : list of (h, w) bool ndarray or None
+        Per layer (None: no support there); the interface is part of the support.
+    window : (row0, col0)
+        The grid's corner (world pixels of `pixel`).
+
+    Examples
+    --------
+    >>> from slicelab import section
+    >>> from slicelab.samples import box, concat
+    >>> part = concat(box((0, 0, 0), (10, 10, 1)), box((20, 0, 2), (30, 10, 3)))  # a slab floating at 2 mm
+    >>> secs = [section(part, (0, 0, z), (0, 0, 1)) for z in (0.5, 1.5, 2.5)]
+    >>> sq = [np.array([[20, 0], [30, 0], [30, 10], [20, 10]], float)]
+    >>> sup, inter, _ = support_masks(secs, [[], [], sq], z_gap_layers=1, interface_layers=1)
+    >>> round(sup[0].sum() * PIXEL ** 2), sup[1] is None, bool(inter[0].sum() == sup[0].sum())
+    (112, True, True)
+
+    The slab's 100 mm^2 and the pixels its outline passes through (a pixel on each side); the
+    layer under it is the gap; its one layer of support is all interface.
+    """
+    import cv2
+    if mode not in ("auto", "bed"):
+        raise ValueError(f"mode must be 'auto' or 'bed', got {mode!r}")
+    n = len(sections)
+    boxes = [s.bounds() for s in sections if len(s.segments)]
+    if not boxes or not any(len(u) for u in unheld):
+        return [None] * n, [None] * n, (0, 0)
+    lo = np.min([b[0] for b in boxes], axis=0) - xy_gap - 2 * pixel
+    hi = np.max([b[1] for b in boxes], axis=0) + xy_gap + 2 * pixel
+    row0, col0 = int(np.floor(lo[1] / pixel)), int(np.floor(lo[0] / pixel))
+    shape = (int(np.ceil(hi[1] / pixel)) - row0 + 1, int(np.ceil(hi[0] / pixel)) - col0 + 1)
+
+    def material(j):
+        s = sections[j]
+        if not len(s.segments):
+            return np.zeros(shape, bool)
+        return winding_numbers(s.segments, row0, col0, shape, pixel) != 0
+
+    def hanging(j):
+        e = _rings_edges(unheld[j]) if 0 <= j < n else np.zeros((0, 2, 2))
+        if not len(e):
+            return None
+        # Inside the outlines, and every pixel they pass through: a strip narrower than a pixel
+        # of this grid (a steep wall's overhang) still gets its support.
+        inside = winding_numbers(e, row0, col0, shape, pixel) != 0
+        return inside | (draw_polylines(shape, row0, col0, pixel, list(unheld[j]), pixel, closed=True) > 0)
+
+    r = max(1, int(round(xy_gap / pixel)))
+    gap = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
+    thin = cv2.getStructuringElement(cv2.MORPH_RECT, (3, 3))
+    # Bottom up, for "bed": where the part lies at or under each layer (a column there is dropped).
+    blocked = None
+    if mode == "bed":
+        blocked, acc = [], np.zeros(shape, bool)
+        for j in range(n):  # over layers
+            acc = acc | cv2.dilate(material(j).astype(np.uint8), gap).astype(bool)  # with its XY gap
+            blocked.append(np.packbits(acc))
+    support, interface = [None] * n, [None] * n
+    carry = np.zeros(shape, bool)
+    tops = []  # the overhangs of the layers above, newest last, for the interface
+    for j in range(n - 1, -1, -1):  # over layers, top down
+        above = hanging(j + 1 + z_gap_layers)
+        tops.append(above)
+        if above is not None:
+            carry |= above
+        if not carry.any():
+            continue
+        m = material(j)
+        carry &= ~m  # a column that meets the part stands on it
+        if blocked is not None:
+            carry &= ~np.unpackbits(blocked[j], count=carry.size).reshape(shape).astype(bool)
+        sup = carry & ~cv2.dilate(m.astype(np.uint8), gap).astype(bool)
+        # What is narrower than about a line (three pixels) cannot be printed, and holds nothing.
+        sup = cv2.morphologyEx(sup.astype(np.uint8), cv2.MORPH_OPEN, thin).astype(bool)
+        if not sup.any():
+            continue
+        support[j] = sup
+        recent = [t for t in tops[-interface_layers:] if t is not None] if interface_layers else []
+        if recent:
+            inter = sup & np.logical_or.reduce(recent)
+            interface[j] = inter if inter.any() else None
+    return support, interface, (row0, col0)
+
+
+def _polygons(mask: np.ndarray, row0: int, col0: int, pixel: float, min_area: float) -> list[Polygon]:
+    """A mask's regions as polygons (mm), with their holes."""
+    import cv2
+    contours, hierarchy = cv2.findContours(mask.astype(np.uint8), cv2.RETR_CCOMP, cv2.CHAIN_APPROX_SIMPLE)
+    if hierarchy is None:
+        return []
+    h = hierarchy[0]
+    to_mm = lambda c: (c.reshape(-1, 2).astype(np.float64) + (col0, row0)) * pixel  # noqa: E731
+    out = []
+    for i, c in enumerate(contours):  # over the outer contours and their holes, few
+        if h[i, 3] >= 0 or len(c) < 3:
+            continue
+        ext = to_mm(c)
+        if abs(signed_area(ext)) < min_area:
+            continue
+        ext = ext if signed_area(ext) > 0 else ext[::-1]  # material on the left: outside counter-clockwise
+        holes, k = [], h[i, 2]
+        while k >= 0:  # over its holes
+            if len(contours[k]) >= 3:
+                hole = to_mm(contours[k])
+                holes.append(hole if signed_area(hole) < 0 else hole[::-1])
+            k = h[k, 0]
+        out.append(Polygon(ext, tuple(holes), 0))
+    return out
+
+
+def support_paths(sections, unheld, *, mode: str = "auto", line_width: float = 0.4, spacing: float = 2.0,
+                  interface_spacing: float = 0.6, xy_gap: float = 0.6, z_gap_layers: int = 1,
+                  interface_layers: int = 2, angle: float = 0.0, pixel: float = PIXEL) -> list[list]:
+    """The supports' toolpath rows of every layer: ``(kind, polyline)``, kind ``"support"`` or
+    ``"support_interface"``.
+
+    Parameters
+    ----------
+    sections, unheld, mode, xy_gap, z_gap_layers, interface_layers, pixel
+        As for `support_masks`.
+    line_width : float
+    spacing, interface_spacing : float
+        Distance between lines of the sparse support and of its interface (mm).
+    angle : float
+        Direction of the sparse lines (degrees); alternate layers turn them by 90, and the
+        interface runs across them.
+
+    Returns
+    -------
+    list of list of (str, (k, 2) ndarray)
+        Per layer; empty where there is no support.
+
+    See Also
+    --------
+    support_masks : where the supports go.
+    """
+    support, interface, (row0, col0) = support_masks(sections, unheld, mode=mode, xy_gap=xy_gap,
+                                                     z_gap_layers=z_gap_layers, interface_layers=interface_layers,
+                                                     pixel=pixel)
+    out = []
+    min_area = 4 * line_width ** 2
+    for j, (sup, inter) in enumerate(zip(support, interface)):  # over layers
+        rows = []
+        if sup is not None:
+            turn = angle + 90.0 * (j % 2)
+            sparse = sup & ~inter if inter is not None else sup
+            rows += [("support", q) for q in rectilinear(_polygons(sparse, row0, col0, pixel, min_area), spacing,
+                                                          turn)]
+            if inter is not None:
+                rows += [("support_interface", q) for q in
+                         rectilinear(_polygons(inter, row0, col0, pixel, min_area), interface_spacing, turn + 90.0)]
+        out.append(rows)
+    return out
