@@ -4,8 +4,12 @@ The parts (each skipped with a note when its file is missing): the project's pot
 (`data/pot.stl`, 124 mm, 17,568 facets), a 96 mm CAD-like block with holes, bosses,
 1 mm walls and a dome (`data/large/block_100.stl`, `make data-large`), the Utah
 teapot from `../shared/meshes/scans/` scaled to 120 mm (`--scale` on both sides),
-and the 1M-facet torus (`data/large/torus_1m.stl`, 80 mm). `--mesh` (repeatable)
-runs other files instead.
+the 1M-facet torus (`data/large/torus_1m.stl`, 80 mm), a 20 mm deck bridged between
+two pillars (`data/bridge.stl`) and a mushroom whose 40 mm cap hangs 15 mm out
+(`data/mushroom.stl`, sliced with supports on both sides: `--support auto`,
+`--support-material`). `--mesh` (repeatable) runs other files instead. Per part, the
+length each tool extrudes under each ``;TYPE:`` word (bridges, supports, ...) and the
+print time each announces are printed too.
 
 Same settings on both sides: 0.2 mm layers (first layer too), 0.4 mm lines everywhere, two
 perimeters, 20% rectilinear infill, 3 top and 3 bottom solid layers, no skirt, no minimum shell
@@ -111,31 +115,60 @@ def extruded_filament(gcode: Path) -> float:
     return total
 
 
-def gcode_stats(path: Path):
-    """Bytes, extrusion moves, their median length (mm) and the share under 0.1 mm, parsed from the file."""
+def gcode_stats(path: Path, roles: dict | None = None):
+    """Bytes, extrusion moves, their median length (mm) and the share under 0.1 mm, parsed from the file;
+    `roles`, if given, gets the extruded length (mm) under each ``;TYPE:`` word."""
     import numpy as np
     text = path.read_text()
     x = y = 0.0
     lengths = []
+    role = None
     for line in text.splitlines():  # every move, to follow the nozzle
+        if line.startswith(";TYPE:"):
+            role = line[6:].strip()
+            continue
         if not (line.startswith("G1 ") or line.startswith("G0 ")):
             continue
         words = dict((w[0], w[1:]) for w in line.split(";")[0].split()[1:] if w)
         nx, ny = float(words.get("X", x)), float(words.get("Y", y))
         if float(words.get("E", 0) or 0) > 0 and ("X" in words or "Y" in words):
             lengths.append(float(np.hypot(nx - x, ny - y)))
+            if roles is not None:
+                roles[role] = roles.get(role, 0.0) + lengths[-1]
         x, y = nx, ny
     lengths = np.asarray(lengths) if lengths else np.zeros(1)
     return len(text.encode()), len(lengths), float(np.median(lengths)), float(np.mean(lengths < 0.1))
 
 
-PARTS = (("pot", ROOT / "data" / "pot.stl", None),
-         ("block 96 mm", ROOT / "data" / "large" / "block_100.stl", None),
-         ("teapot 120 mm", ROOT.parent / "shared" / "meshes" / "scans" / "utah_teapot.stl", 120.0),
-         ("torus 1M", ROOT / "data" / "large" / "torus_1m.stl", None))
+def estimated_seconds(path: Path) -> float:
+    """The print time a G-code file announces (PrusaSlicer's comment, which slicelab writes too)."""
+    found = re.findall(r"; estimated printing time \(normal mode\) = (.*)", path.read_text()[-20000:])
+    if not found:
+        return float("nan")
+    units = {"d": 86400, "h": 3600, "m": 60, "s": 1}
+    return float(sum(int(v) * units[u] for v, u in re.findall(r"(\d+)([dhms])", found[-1])))
 
 
-def bench_part(label: str, mesh: Path, scale: float | None, args, prusa: str | None) -> dict | None:
+#: Speeds (mm/s), acceleration and jerk given to both tools, so that their print-time estimates
+#: compare: slicelab's defaults, spelled out for PrusaSlicer (its estimate also uses its machine
+#: limits, 1500 mm/s2 by default).
+SPEEDS = dict(perimeter=40, external_perimeter=25, infill=80, solid_infill=60, top_solid_infill=40, gap_fill=20,
+              bridge=25, travel=150, first_layer=20)
+SAME_SPEEDS = ["--acceleration", "1500", "--jerk", "10"]  # slicelab's speeds are the defaults above
+PRUSA_SPEEDS = [w for k, v in SPEEDS.items() for w in (f"--{k.replace('_', '-')}-speed", str(v))] + \
+    ["--support-material-speed", "50"]
+
+#: (label, file, largest size to scale to or None, supports on both sides)
+PARTS = (("pot", ROOT / "data" / "pot.stl", None, False),
+         ("block 96 mm", ROOT / "data" / "large" / "block_100.stl", None, False),
+         ("teapot 120 mm", ROOT.parent / "shared" / "meshes" / "scans" / "utah_teapot.stl", 120.0, False),
+         ("torus 1M", ROOT / "data" / "large" / "torus_1m.stl", None, False),
+         ("bridge 60 mm", ROOT / "data" / "bridge.stl", None, False),
+         ("mushroom supp.", ROOT / "data" / "mushroom.stl", None, True))
+
+
+def bench_part(label: str, mesh: Path, scale: float | None, args, prusa: str | None,
+               support: bool = False) -> dict | None:
     """Both tools on one part, alternating; prints the part's tables and returns its summary row."""
     tmp = Path(tempfile.mkdtemp(prefix="bench_slice_"))
     ours = tmp / "slicelab.gcode"
@@ -147,8 +180,9 @@ def bench_part(label: str, mesh: Path, scale: float | None, args, prusa: str | N
     cmd = [sys.executable, "-m", "slicelab", "slice", str(mesh), "-o", str(ours), "--layer-height", str(LAYER),
            "--line-width", str(WIDTH), "--perimeters", str(PERIMETERS), "--infill-density", str(INFILL),
            "--top-layers", str(SOLID), "--bottom-layers", str(SOLID),
-           "--skirt-loops", "0", "--bed-size", "1000x1000", "--max-height", "1000"]
+           "--skirt-loops", "0", "--bed-size", "1000x1000", "--max-height", "1000"] + SAME_SPEEDS
     cmd += ["--scale", factor[0]] if factor else []
+    cmd += ["--support", "auto"] if support else []
     if args.pixel_size:
         cmd += ["--pixel-size", str(args.pixel_size)]
     if args.workers:
@@ -160,8 +194,9 @@ def bench_part(label: str, mesh: Path, scale: float | None, args, prusa: str | N
             "--top-solid-layers", str(SOLID), "--bottom-solid-layers", str(SOLID),
             "--top-solid-min-thickness", "0", "--bottom-solid-min-thickness", "0",
             "--extrusion-width", str(WIDTH), "--first-layer-extrusion-width", str(WIDTH),
-            "--skirts", "0", "--bed-shape", "0x0,1000x0,1000x1000,0x1000", "--center", "500,500",
-            "--max-print-height", "1000", "-o", str(theirs)] + (["--scale", factor[0]] if factor else []) + [str(mesh)]
+            "--skirts", "0", *PRUSA_SPEEDS, "--bed-shape", "0x0,1000x0,1000x1000,0x1000", "--center", "500,500",
+            "--max-print-height", "1000", "-o", str(theirs)] + (["--scale", factor[0]] if factor else []) \
+        + (["--support-material"] if support else []) + [str(mesh)]
     runs = {"slicelab": [], "PrusaSlicer": []}
     for _ in range(args.repeat):  # alternating, so both tools see the same machine load
         t, m, r = run(cmd)
@@ -178,10 +213,18 @@ def bench_part(label: str, mesh: Path, scale: float | None, args, prusa: str | N
                 runs["PrusaSlicer"].append((t, m))
     print(r.stdout.strip())
     filament = {"slicelab": extruded_filament(ours)}
-    stats = {"slicelab": gcode_stats(ours)}
+    roles = {"slicelab": {}, "PrusaSlicer": {}}
+    stats = {"slicelab": gcode_stats(ours, roles["slicelab"])}
+    estimate = {"slicelab": estimated_seconds(ours)}
     if runs["PrusaSlicer"]:
         filament["PrusaSlicer"] = extruded_filament(theirs)
-        stats["PrusaSlicer"] = gcode_stats(theirs)
+        stats["PrusaSlicer"] = gcode_stats(theirs, roles["PrusaSlicer"])
+        estimate["PrusaSlicer"] = estimated_seconds(theirs)
+    print(f"{'extruded (m) by ;TYPE:':<28}{'slicelab':>10}{'Prusa':>10}")
+    for word in sorted(set(roles["slicelab"]) | set(roles["PrusaSlicer"]), key=str):
+        print(f"{str(word):<28}{roles['slicelab'].get(word, 0) / 1000:>10.2f}"
+              f"{roles['PrusaSlicer'].get(word, 0) / 1000:>10.2f}")
+    print("estimated print time: " + ", ".join(f"{k} {v / 60:.1f} min" for k, v in estimate.items()))
     print(f"{'tool':<12}{'G-code MB':>10}{'extrusions':>12}{'median mm':>11}{'< 0.1 mm':>10}")
     for name, (size, n, median, short) in stats.items():
         print(f"{name:<12}{size / 1e6:>10.2f}{n:>12,d}{median:>11.3f}{100 * short:>9.1f}%")
@@ -194,7 +237,7 @@ def bench_part(label: str, mesh: Path, scale: float | None, args, prusa: str | N
                   + " ".join(f"{t:.2f}" for t, _ in rs))
     shutil.rmtree(tmp, ignore_errors=True)
     row = {"part": label, "ours_s": med["slicelab"][0], "ours_mb": med["slicelab"][1],
-           "short": stats["slicelab"][3]}
+           "short": stats["slicelab"][3], "estimate": estimate}
     if "PrusaSlicer" in med:
         row.update(theirs_s=med["PrusaSlicer"][0], theirs_mb=med["PrusaSlicer"][1],
                    bytes=stats["slicelab"][0] / stats["PrusaSlicer"][0],
@@ -209,7 +252,7 @@ def main(argv=None) -> int:
     ap.add_argument("--pixel-size", type=float, default=None, help="default: slicelab's own")
     ap.add_argument("--repeat", type=int, default=1, help="alternating runs per tool (median wall time)")
     args = ap.parse_args(argv)
-    parts = [(m.name, m, None) for m in args.mesh] if args.mesh else PARTS
+    parts = [(m.name, m, None, False) for m in args.mesh] if args.mesh else PARTS
     prusa = shutil.which("prusa-slicer") or shutil.which("prusaslicer")
     print(f"{LAYER} mm layers, {WIDTH} mm lines, {PERIMETERS} perimeters, {INFILL}% infill, {SOLID} top/bottom "
           f"layers; {os.cpu_count()} cores, shared machine (noisy timings); {args.repeat} alternating run(s) "
@@ -217,26 +260,27 @@ def main(argv=None) -> int:
     if prusa is None:
         print("prusa-slicer is not installed (apt-get install -y prusa-slicer): no comparison")
     rows = []
-    for label, mesh, scale in parts:
+    for label, mesh, scale, support in parts:
         if not mesh.exists():
             print(f"\n=== {label}: {mesh} is missing (`make data-large`, or ../shared/meshes): skipped")
             continue
-        row = bench_part(label, mesh, scale, args, prusa)
+        row = bench_part(label, mesh, scale, args, prusa, support)
         if row is None:
             return 1
         rows.append(row)
     print(f"\n{'part':<15}{'slicelab s':>11}{'Prusa s':>9}{'ratio':>7}{'peak MB':>9}{'Prusa MB':>9}"
-          f"{'G-code':>8}{'<0.1mm':>8}{'filament':>9}")
+          f"{'G-code':>8}{'<0.1mm':>8}{'filament':>9}{'time est.':>10}")
     for r in rows:
         if "theirs_s" in r:
             print(f"{r['part']:<15}{r['ours_s']:>11.1f}{r['theirs_s']:>9.1f}{r['ours_s'] / r['theirs_s']:>6.1f}x"
                   f"{r['ours_mb']:>9.0f}{r['theirs_mb']:>9.0f}{r['bytes']:>7.2f}x{100 * r['short']:>7.1f}%"
-                  f"{100 * (r['filament'] - 1):>+8.1f}%")
+                  f"{100 * (r['filament'] - 1):>+8.1f}%"
+                  f"{100 * (r['estimate']['slicelab'] / r['estimate']['PrusaSlicer'] - 1):>+9.1f}%")
         else:
             print(f"{r['part']:<15}{r['ours_s']:>11.1f}{'-':>9}{'-':>7}{r['ours_mb']:>9.0f}{'-':>9}{'-':>8}"
                   f"{100 * r['short']:>7.1f}%{'-':>9}")
     print("targets: wall time <= PrusaSlicer's, G-code <= 1.3x, <= 5 % of moves under 0.1 mm, filament within "
-          "10 %, peak memory under 1500 MB")
+          "10 %, peak memory under 1500 MB, print-time estimate within 15 %")
     return 0
 
 

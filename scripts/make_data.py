@@ -12,6 +12,8 @@ import sys
 import time
 from pathlib import Path
 
+import numpy as np
+
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
@@ -27,6 +29,15 @@ SMALL = {
     "pot": lambda: samples.pot(60, 72),
     "overlapping_cubes": samples.overlapping_cubes,
     "staircase": lambda: samples.staircase(8, 2.0, 10.0, 0.2, 2),
+    # Two 10 x 10 x 20 mm pillars 20 mm apart under a 3 mm deck: a bridge (1 mm cells, one shell).
+    "bridge": lambda: samples.voxels(np.pad(np.ones((40, 10, 23), bool), 0)
+                                     & ~((np.arange(40)[:, None, None] >= 10) & (np.arange(40)[:, None, None] < 30)
+                                         & (np.arange(23)[None, None, :] < 20))),
+    # A 10 x 10 x 20 mm stem under a 40 x 40 x 4 mm cap: an overhang all round, for supports.
+    "mushroom": lambda: samples.voxels((np.arange(24)[None, None, :] >= 20)
+                                       | ((np.abs(np.arange(40) - 19.5)[:, None, None] < 5)
+                                          & (np.abs(np.arange(40) - 19.5)[None, :, None] < 5))
+                                       & np.ones((40, 40, 24), bool)),
 }
 
 def block_part():

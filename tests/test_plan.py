@@ -138,8 +138,9 @@ def test_top_and_bottom_layers_are_solid(cube_plan):
             fill_types.setdefault(layer, set()).add(role)
     for k in range(s.bottom_layers):
         assert fill_types[k] == {"Solid infill"}, (k, fill_types[k])
-    for k in range(n - s.top_layers, n):  # skin exposed above: PrusaSlicer's top solid infill
-        assert fill_types[k] == {"Top solid infill"}, (k, fill_types[k])
+    for k in range(n - s.top_layers, n - 1):  # skin under the top surface: solid infill
+        assert fill_types[k] == {"Solid infill"}, (k, fill_types[k])
+    assert fill_types[n - 1] == {"Top solid infill"}  # the surface itself, as PrusaSlicer types it
     for k in range(s.bottom_layers, n - s.top_layers):
         assert fill_types[k] == {"Internal infill"}, (k, fill_types[k])
 
@@ -191,7 +192,8 @@ def test_skins_are_found_by_mask_differences():
     k = 6  # 1.5 - 1.75 mm: the tower stands 2 layers above
     lp = pp.layers[k]
     kinds = np.array(lp.filling_kinds)
-    assert {"top", "sparse"} <= set(kinds)  # the slab's skin is exposed: its top
+    assert {"solid", "sparse"} <= set(kinds)  # skin, under the slab's top surface (layer 7)
+    assert "top" in pp.layers[7].filling_kinds and "top" not in kinds
     for q, kind in zip(lp.filling_segments, kinds):
         line = shapely.LineString(q)
         if kind in ("solid", "top"):

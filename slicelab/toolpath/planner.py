@@ -170,7 +170,8 @@ _RUN = 20  # layers per task: each rasterises its skins' neighbours too, so not 
 
 def _skin_masks(k: int, masks: dict, n: int, s: PrintSettings):
     """Skins of layer k: its material missing from any of the `top_layers` above or the
-    `bottom_layers` below, as (solid, top): all skin, and the part of it exposed above.
+    `bottom_layers` below, as (solid, top): all skin, and the part of it the next layer leaves
+    exposed (the top surface).
 
     Layer masks are held by blocks along their boundaries (`slicelab.toolpath.masks.BlockMask`):
     the differences and the opening work block by block, so their cost follows the boundaries.
@@ -195,7 +196,11 @@ def _skin_masks(k: int, masks: dict, n: int, s: PrintSettings):
         return None, None
     # Slivers narrower than a line width (a sloped wall's edge) are the perimeters' business.
     radius = max(1, int(round(0.5 * s.line_width / s.pixel_size)))
-    return open_mask(skin, radius), (open_mask(top, radius) if top.area > 0 else None)
+    # The top surface proper: what the very next layer leaves exposed (the skin under it is
+    # solid infill, as PrusaSlicer types it).
+    above = masks.get(k + 1) if k + 1 < n else None
+    exposed = top if above is None else top - above
+    return open_mask(skin, radius), (open_mask(exposed, radius) if exposed.area > 0 else None)
 
 
 def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, s: PrintSettings):

@@ -87,7 +87,7 @@ class Supports:
     `support_xy_gap` (mm) to the part beside it and `support_z_gap_layers` layers under it."""
 
     support: str = "off"
-    support_spacing: float = 2.0
+    support_spacing: float = 2.5
     support_interface_spacing: float = 0.6
     support_interface_layers: int = 2
     support_xy_gap: float = 0.6

@@ -183,7 +183,7 @@ def _polygons(mask: np.ndarray, row0: int, col0: int, pixel: float, min_area: fl
     return out
 
 
-def support_paths(sections, unheld, *, mode: str = "auto", line_width: float = 0.4, spacing: float = 2.0,
+def support_paths(sections, unheld, *, mode: str = "auto", line_width: float = 0.4, spacing: float = 2.5,
                   interface_spacing: float = 0.6, xy_gap: float = 0.6, z_gap_layers: int = 1,
                   interface_layers: int = 2, angle: float = 0.0, pixel: float = PIXEL) -> list[list]:
     """The supports' toolpath rows of every layer: ``(kind, polyline)``, kind ``"support"`` or
