@@ -9,7 +9,7 @@ configuration runs in a fresh process, so peak memory (ru_maxrss minus the resid
 the call) is its own.
 
 Rings: a ring of constant 4 mm wall (`slicelab.samples.ring_prism`, cut at mid-height) with outer
-radius 10, 20, 40, 80 and 160 mm, at 0.05 mm pixels: the median time of `layer_paths` over
+radius 10, 20, 40, 80 and 160 mm, at the default pixel (0.1 mm): the median time of `layer_paths` over
 `--repeat` runs, the pixels held, and each size's ratio to the previous one. Work that follows the
 boundary doubles when the radius doubles; work over the islands' boxes would quadruple. The
 exponent fitted to time ~ radius^k says which.
@@ -88,9 +88,10 @@ def ring_table(repeat: int) -> None:
     """Time and pixels held per layer for rings of growing radius, and the fitted exponent."""
     import numpy as np
     import slicelab
-    print(f"\nring of {WALL:g} mm wall, layer_paths at 0.05 mm pixels (median of {repeat} runs)")
+    p = slicelab.PrintSettings().pixel_size
+    print(f"\nring of {WALL:g} mm wall, layer_paths at {p:g} mm pixels (median of {repeat} runs)")
     print(f"{'radius mm':>10}{'time ms':>10}{'x prev':>8}{'px held':>11}{'x prev':>8}{'box px':>12}")
-    slicelab.layer_paths(ring_section(RADII[0]), pixel_size=0.05)  # warm imports
+    slicelab.layer_paths(ring_section(RADII[0]), pixel_size=p)  # warm imports
     times, held = [], []
 
     def ratio(xs):
@@ -101,7 +102,7 @@ def ring_table(repeat: int) -> None:
         runs = []
         for _ in range(repeat):
             t0 = time.perf_counter()
-            lp = slicelab.layer_paths(s, 0.4, 2, 0.2, pixel_size=0.05)
+            lp = slicelab.layer_paths(s, 0.4, 2, 0.2, pixel_size=p)
             runs.append(time.perf_counter() - t0)
         fields = lp.perimeters.fields
         times.append(statistics.median(runs))
@@ -115,22 +116,23 @@ def ring_table(repeat: int) -> None:
 
 
 def pot_time(repeat: int) -> None:
-    """The pot's layer at mid-height with the defaults (0.05 mm pixels): median time."""
+    """The pot's layer at mid-height with the defaults (0.1 mm pixels), and at 0.05 mm: median times."""
     import slicelab
     path = ROOT / "data" / "pot.stl"
     if not path.exists():
         return
     s = slicelab.section(slicelab.load(path), (0, 0, 60.0), (0, 0, 1))
     slicelab.layer_paths(s, pixel_size=0.1)  # warm imports
-    runs = []
-    for _ in range(max(repeat, 3)):
-        t0 = time.perf_counter()
-        lp = slicelab.layer_paths(s, 0.4, 2, 0.2, pixel_size=0.05)
-        runs.append(time.perf_counter() - t0)
-    held = sum(f.grid.pixels for f in lp.perimeters.fields)
-    box = sum(f.grid.shape[0] * f.grid.shape[1] for f in lp.perimeters.fields)
-    print(f"\npot layer (z = 60 mm, 0.05 mm pixels): {1000 * statistics.median(runs):.0f} ms "
-          f"(median of {len(runs)}), {held} px held of {box} in the islands' boxes")
+    for p in (slicelab.PrintSettings().pixel_size, 0.05):
+        runs = []
+        for _ in range(max(repeat, 3)):
+            t0 = time.perf_counter()
+            lp = slicelab.layer_paths(s, 0.4, 2, 0.2, pixel_size=p)
+            runs.append(time.perf_counter() - t0)
+        held = sum(f.grid.pixels for f in lp.perimeters.fields)
+        box = sum(f.grid.shape[0] * f.grid.shape[1] for f in lp.perimeters.fields)
+        print(f"\npot layer (z = 60 mm, {p:g} mm pixels): {1000 * statistics.median(runs):.0f} ms "
+              f"(median of {len(runs)}), {held} px held of {box} in the islands' boxes")
 
 
 def layer_table(repeat: int) -> int:
