@@ -16,6 +16,7 @@
 ``toolpath.table``          `LayerPaths`: a layer's toolpaths as a table, a row per path
 ``toolpath.paths``          `layer_paths`: one layer's ordered toolpaths, coverage
 ``toolpath.overhangs``      bridges, unheld overhangs and mid-air islands of a layer
+``toolpath.skins``         top and bottom skins by mask differences
 ``toolpath.supports``      support material under unheld overhangs and mid-air islands
 ``toolpath.settings``       `PrintSettings` in groups (extrusion, infill, skins, motion, ...)
 ``toolpath.printers``       printer profiles, TOML settings files, start and end G-code
@@ -47,7 +48,7 @@ _WHERE = {"PRINTERS": "printers", "FLAVORS": "printers", "resolve_settings": "pr
           "PrintPlan": "planner", "plan": "planner", "layer_bounds": "planner",
           "PrintSettings": "settings", "settings_dict": "settings", "Bridge": "overhangs", "LayerOverhangs": "overhangs", "layer_overhangs": "overhangs", "setting_names": "settings",
           "Extrusion": "settings", "Infill": "settings", "Skins": "settings", "Motion": "settings",
-          "Cooling": "settings", "Adhesion": "settings", "Walls": "settings", "Supports": "settings", "PIXEL": "supports", "SUPPORTS": "supports", "support_masks": "supports", "support_paths": "supports", "Machine": "settings", "Raster": "settings",
+          "Cooling": "settings", "Adhesion": "settings", "Walls": "settings", "Supports": "settings", "PIXEL": "supports", "layer_skins": "skins", "SUPPORTS": "supports", "support_masks": "supports", "support_paths": "supports", "Machine": "settings", "Raster": "settings",
           "GROUPS": "settings"}
 
 
@@ -61,7 +62,7 @@ __all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_con
            "FILLING_KINDS", "KINDS", "ROLE_OF", "RoleStyle", "STYLES", "LayerPaths", "layer_paths", "coverage_map", "covered_pixels", "PrintSettings",
            "PrintPlan", "plan", "layer_bounds", "settings_dict", "setting_names", "Extrusion", "Infill", "Skins",
            "Motion", "Cooling", "Adhesion", "Machine", "Raster", "Walls", "Supports", "PIXEL", "SUPPORTS",
-           "support_masks", "support_paths", "GROUPS", "SEAMS", "Bridge", "LayerOverhangs",
+           "support_masks", "support_paths", "layer_skins", "GROUPS", "SEAMS", "Bridge", "LayerOverhangs",
            "layer_overhangs"]
 
 

@@ -168,41 +168,6 @@ class PrintPlan:
 _RUN = 20  # layers per task: each rasterises its skins' neighbours too, so not fewer
 
 
-def _skin_masks(k: int, masks: dict, n: int, s: PrintSettings):
-    """Skins of layer k: its material missing from any of the `top_layers` above or the
-    `bottom_layers` below, as (solid, top): all skin, and the part of it the next layer leaves
-    exposed (the top surface).
-
-    Layer masks are held by blocks along their boundaries (`slicelab.toolpath.masks.BlockMask`):
-    the differences and the opening work block by block, so their cost follows the boundaries.
-    """
-    from .masks import open_mask
-    mine = masks[k]
-    if mine is None:
-        return None, None
-    parts = []
-    for rng in (range(k + 1, k + 1 + s.top_layers), range(k - 1, k - 1 - s.bottom_layers, -1)):
-        covered = mine
-        for j in rng:  # over the few neighbouring layers
-            other = masks.get(j) if 0 <= j < n else None
-            if other is None:
-                covered = None
-                break
-            covered = covered & other
-        parts.append(mine if covered is None else mine - covered)
-    top, bottom = parts
-    skin = top | bottom
-    if skin.area == 0:
-        return None, None
-    # Slivers narrower than a line width (a sloped wall's edge) are the perimeters' business.
-    radius = max(1, int(round(0.5 * s.line_width / s.pixel_size)))
-    # The top surface proper: what the very next layer leaves exposed (the skin under it is
-    # solid infill, as PrusaSlicer types it).
-    above = masks.get(k + 1) if k + 1 < n else None
-    exposed = top if above is None else top - above
-    return open_mask(skin, radius), (open_mask(exposed, radius) if exposed.area > 0 else None)
-
-
 def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, s: PrintSettings):
     """Toolpaths of layers first..stop-1 of n.
 
@@ -213,6 +178,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     """
     from .overhangs import layer_overhangs
     from .paths import layer_paths
+    from .skins import layer_skins
     from .raster import rasterize
     from .simplify import simplify_paths
     from .skirt import skirt_loops, with_skirt
@@ -222,7 +188,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     out = []
     pos = seam = None  # the nozzle, and the seam of the layer below (for aligned seams)
     for k in range(first, stop):  # over layers
-        solid, top = _skin_masks(k, masks, n, s)
+        solid, top = layer_skins(k, masks, s.skins, s.line_width)
         ov = None
         if k > 0 and masks[k] is not None:  # the first layer lies on the bed
             ov = layer_overhangs(masks[k], masks.get(k - 1), s.layer_height, threshold=s.overhang_threshold,

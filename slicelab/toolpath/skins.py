@@ -1,0 +1,79 @@
+"""Top and bottom skins: a layer's material that the layers above or below leave exposed.
+
+Layer masks share one world-anchored pixel grid, so a skin is a plain mask
+difference: the part of layer k not under all of the `top_layers` layers above
+(or over all of the `bottom_layers` below) is filled solid. Masks are held by
+blocks along their boundaries (`slicelab.toolpath.masks.BlockMask`), so the
+differences and the opening cost what the boundaries do.
+
+See Also
+--------
+slicelab.toolpath.planner.plan : finds every layer's skins this way.
+slicelab.toolpath.paths.layer_paths : fills them solid (``solid``) and types the top surface (``top``).
+"""
+from __future__ import annotations
+
+from .masks import open_mask
+from .settings import Skins
+
+__all__ = ["layer_skins"]
+
+
+def layer_skins(k: int, masks: dict, skins: Skins, line_width: float):
+    """Skins of layer k: (solid, top), the skin and the part of it the next layer leaves exposed.
+
+    Parameters
+    ----------
+    k : int
+        The layer.
+    masks : dict
+        Layer index -> its material mask (None for an empty layer), holding at least the
+        layers from ``k - skins.bottom_layers`` to ``k + skins.top_layers`` that exist: a
+        missing index lies beyond the part (nothing there).
+    skins : Skins
+        How many layers make a skin above and below.
+    line_width : float
+        Slivers narrower than a line (a sloped wall's edge) are left to the perimeters.
+
+    Returns
+    -------
+    solid, top : mask or None
+        None where there is no skin.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from slicelab.toolpath.masks import GridMask
+    >>> slab = GridMask(np.ones((40, 40), bool), 0, 0, 0.1)
+    >>> tower = GridMask(np.pad(np.ones((10, 10), bool), 15), 0, 0, 0.1)
+    >>> masks = {0: slab, 1: slab, 2: slab, 3: slab, 4: tower, 5: tower}
+    >>> solid, top = layer_skins(3, masks, Skins(top_layers=2, bottom_layers=2), 0.4)
+    >>> round(solid.area, 2), round(top.area, 2)     # the slab's top, all but under the tower
+    (15.0, 15.0)
+    >>> solid, top = layer_skins(0, masks, Skins(top_layers=2, bottom_layers=2), 0.4)
+    >>> round(solid.area, 2), top                     # the bottom: all of it, nothing exposed above
+    (16.0, None)
+    """
+    mine = masks.get(k)
+    if mine is None:
+        return None, None
+    parts = []
+    for rng in (range(k + 1, k + 1 + skins.top_layers), range(k - 1, k - 1 - skins.bottom_layers, -1)):
+        covered = mine
+        for j in rng:  # over the few neighbouring layers
+            other = masks.get(j)
+            if other is None:
+                covered = None
+                break
+            covered = covered & other
+        parts.append(mine if covered is None else mine - covered)
+    top, bottom = parts
+    skin = top | bottom
+    if skin.area == 0:
+        return None, None
+    radius = max(1, int(round(0.5 * line_width / mine.pixel_size)))
+    # The top surface proper: what the very next layer leaves exposed (the skin under it is
+    # solid infill, as PrusaSlicer types it).
+    above = masks.get(k + 1)
+    exposed = top if above is None else top - above
+    return open_mask(skin, radius), (open_mask(exposed, radius) if exposed.area > 0 else None)
