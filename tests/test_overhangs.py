@@ -227,3 +227,29 @@ def test_supports_on_the_bed_only_skip_what_stands_on_the_part():
     shelf_top = int(round(2.0 / 0.25))
     assert not any(_support_rows(auto)[k] for k in range(shelf_top))  # standing on the shelf
     assert "only on the bed" in bed.warnings()[0]["message"]
+
+
+@pytest.mark.parametrize("angle", [30, 60])
+def test_perimeters_over_nothing_print_as_overhang_perimeters(angle, tmp_path):
+    s = PrintSettings(**S)
+    pp = plan(ramp(angle), s, workers=1)
+    pieces = [(k, kind, q) for k, lp in enumerate(pp.layers) for kind, q, _ in lp.pieces()]
+    hang = [(k, q) for k, kind, q in pieces if kind == "overhang"]
+    if angle == 30:  # steps of 0.14 mm a layer: the extrusions stand on the layer below
+        assert not hang
+        return
+    # Steps of 0.43 mm: on every layer above the first, the outer wall's leaning side hangs, and
+    # only it (x = 10 + z tan(60), less half a line).
+    layers = {k for k, _ in hang}
+    assert layers == set(range(1, len(pp.layers)))
+    for k, q in hang:
+        z = pp.layers[k].z - s.layer_height / 2
+        assert np.allclose(q[:, 0], 10 + z * math.tan(math.radians(60)) - s.line_width / 2, atol=0.1)
+    # The pieces of a loop join up: the table's loops are unchanged.
+    for lp in pp.layers:
+        assert sum(len(q) - 1 for _, q, _ in lp.pieces()) == sum(len(q) - 1 for q in lp.paths)
+    path = tmp_path / "ramp.gcode"
+    write_gcode(pp, path)
+    blocks = [b for b in path.read_text().split(";TYPE:") if b.startswith("Overhang perimeter")]
+    assert len(blocks) == len(pp.layers) - 1
+    assert all(f"G1 F{60 * s.bridge_speed:.0f}" in b for b in blocks)

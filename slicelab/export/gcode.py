@@ -179,6 +179,7 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
               "hole": s.external_perimeter_speed, "gap_fill": s.gap_fill_speed, "sparse": s.infill_speed,
               "solid": s.solid_infill_speed, "top": s.top_solid_infill_speed, "bridge": s.bridge_speed,
               "support": s.support_speed, "support_interface": s.support_speed,
+              "overhang": s.bridge_speed,
               "skirt": s.first_layer_speed, "brim": s.first_layer_speed}
     feed = {name: round(60 * v) / 60 for name, v in (("travel", s.travel_speed), ("retract", s.retraction_speed))}
     z = lp.z + 0.0
@@ -186,7 +187,7 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
     moves.add([*(moves.pos[:2]), z], 0.0, feed["travel"])
     filament = 0.0
     current_type = None
-    for kind, (_, path, width) in zip(lp.kinds(), lp.ordered()):  # over paths
+    for kind, path, width in lp.pieces():  # over paths, cut where they hang over nothing
         xy = path + off[:2]
         if kind != current_type:
             if current_type == "bridge":
@@ -271,7 +272,7 @@ def write_gcode(plan, path) -> dict:
 def _svg_layer(lp, page) -> SvgDrawing:
     """One layer's drawing: every path at its width, coloured by role, in print order."""
     svg = SvgDrawing(page, desc=f"slicelab layer z={lp.z:.3f}", digits=3)
-    for kind, (_, path, w) in zip(lp.kinds(), lp.ordered()):
+    for kind, path, w in lp.pieces():
         style = STYLES[kind]
         svg.path([path], title=style.gcode_type, fill="none", stroke=style.colour, stroke_width=float(np.mean(w)),
                  stroke_linecap="round", stroke_linejoin="round", stroke_opacity=0.85)

@@ -46,7 +46,7 @@ _WHERE = {"PRINTERS": "printers", "FLAVORS": "printers", "resolve_settings": "pr
           "ROLES": "roles", "FILLING_KINDS": "roles", "KINDS": "roles", "ROLE_OF": "roles", "RoleStyle": "roles", "STYLES": "roles",
           "LayerPaths": "table", "SEAMS": "paths", "layer_paths": "paths", "coverage_map": "paths", "covered_pixels": "paths",
           "PrintPlan": "planner", "plan": "planner", "layer_bounds": "planner",
-          "PrintSettings": "settings", "settings_dict": "settings", "Bridge": "overhangs", "LayerOverhangs": "overhangs", "layer_overhangs": "overhangs", "setting_names": "settings",
+          "PrintSettings": "settings", "settings_dict": "settings", "Bridge": "overhangs", "LayerOverhangs": "overhangs", "layer_overhangs": "overhangs", "mark_overhangs": "overhangs", "PERIMETER_KINDS": "overhangs", "setting_names": "settings",
           "Extrusion": "settings", "Infill": "settings", "Skins": "settings", "Motion": "settings",
           "Cooling": "settings", "Adhesion": "settings", "Walls": "settings", "Supports": "settings", "PIXEL": "supports", "layer_skins": "skins", "SUPPORTS": "supports", "support_masks": "supports", "support_paths": "supports", "Machine": "settings", "Raster": "settings",
           "GROUPS": "settings"}
@@ -63,7 +63,7 @@ __all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_con
            "PrintPlan", "plan", "layer_bounds", "settings_dict", "setting_names", "Extrusion", "Infill", "Skins",
            "Motion", "Cooling", "Adhesion", "Machine", "Raster", "Walls", "Supports", "PIXEL", "SUPPORTS",
            "support_masks", "support_paths", "layer_skins", "GROUPS", "SEAMS", "Bridge", "LayerOverhangs",
-           "layer_overhangs"]
+           "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS"]
 
 
 __getattr__, __dir__ = attach(__name__, _WHERE, globals())

@@ -26,13 +26,16 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from .masks import BlockMask, GridMask, open_mask
 
-__all__ = ["Bridge", "LayerOverhangs", "layer_overhangs"]
+__all__ = ["Bridge", "LayerOverhangs", "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS"]
+
+#: The kinds of rows whose stretches over nothing are overhang perimeters.
+PERIMETER_KINDS = ("external", "hole", "internal")
 
 
 @dataclass(frozen=True, eq=False)
@@ -187,3 +190,55 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
             i = len(rr) // 2
             worst, where = px, np.array([(col0 + cc[i]) * p, (row0 + rr[i]) * p])
     return LayerOverhangs(tuple(bridges), area, mid_air, where, tuple(outlines))
+
+
+def mark_overhangs(paths, below):
+    """The layer's paths with the stretches of its perimeters that lie over nothing marked.
+
+    A perimeter segment hangs when its middle (on the extrusion's centre line) is not over
+    the material of the layer below: more than half the extrusion's width is in the air.
+    Those stretches print as PrusaSlicer's ``Overhang perimeter``, slowly
+    (`LayerPaths.pieces`, `slicelab.export.gcode`).
+
+    Parameters
+    ----------
+    paths : LayerPaths
+    below : GridMask or BlockMask
+        The material of the layer below.
+
+    Returns
+    -------
+    LayerPaths
+        With `LayerPaths.hang` set (or unchanged when nothing hangs).
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from slicelab.toolpath.masks import GridMask
+    >>> from slicelab.toolpath.table import LayerPaths
+    >>> loop = np.array([[1, 1], [5, 1], [5, 3], [1, 3], [1, 1]], float)
+    >>> lp = LayerPaths(("external",), (loop,), (0.4,), 0.0, 0.4)
+    >>> below = GridMask(np.ones((50, 40), bool), 0, 0, 0.1)          # x up to 3.95 mm
+    >>> [(k, q.tolist()) for k, q, _ in mark_overhangs(lp, below).pieces()]
+    [('external', [[1.0, 1.0], [5.0, 1.0]]), ('overhang', [[5.0, 1.0], [5.0, 3.0]]), ('external', [[5.0, 3.0], [1.0, 3.0], [1.0, 1.0]])]
+    """
+    rows = [i for i, k in enumerate(paths.kind) if k in PERIMETER_KINDS]
+    if not rows:
+        return paths
+    p = below.pixel_size
+    qs = [paths.paths[i] for i in rows]
+    mid = np.concatenate([0.5 * (q[1:] + q[:-1]) for q in qs]) / p
+    rr, cc = np.rint(mid[:, 1]).astype(np.int64), np.rint(mid[:, 0]).astype(np.int64)
+    if hasattr(below, "at"):
+        over = below.at(rr, cc)
+    else:
+        over = below.window(int(rr.min()), int(cc.min()), (int(rr.max() - rr.min()) + 1,
+                                                           int(cc.max() - cc.min()) + 1))[rr - rr.min(), cc - cc.min()]
+    if over.all():
+        return paths
+    hang = list(paths.hang) if paths.hang else [None] * len(paths.kind)
+    bounds = np.cumsum([0] + [len(q) - 1 for q in qs])
+    for i, a, b in zip(rows, bounds[:-1], bounds[1:]):  # over perimeter rows
+        h = ~over[a:b]
+        hang[i] = h if h.any() else None
+    return replace(paths, hang=tuple(hang))

@@ -176,7 +176,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     `z_tops` are the tops of these layers. Everything comes as arguments: a
     pool's worker needs no state from the parent.
     """
-    from .overhangs import layer_overhangs
+    from .overhangs import layer_overhangs, mark_overhangs
     from .paths import layer_paths
     from .skins import layer_skins
     from .raster import rasterize
@@ -212,6 +212,8 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
             seam = outer[0][0]
         areas = _areas(lp, rasters[k], solid, s)
         lp = with_skirt(lp, skirt, brim)
+        if k > 0 and masks.get(k - 1) is not None:
+            lp = mark_overhangs(lp, masks[k - 1])
         items = list(lp.ordered())
         if items:
             pos = items[-1][1][-1]
@@ -371,8 +373,9 @@ def _with_supports(layers: list, sections: list, unheld: list, s: PrintSettings)
         kind = lp.kind[:first] + tuple(k for k, _ in extra) + lp.kind[first:]
         paths = lp.paths[:first] + tuple(q for _, q in extra) + lp.paths[first:]
         widths = lp.widths[:first] + (lp.line_width,) * len(extra) + lp.widths[first:]
+        hang = (lp.hang[:first] + (None,) * len(extra) + lp.hang[first:]) if lp.hang else ()
         travel = float(sum(np.hypot(*(b[0] - a[-1])) for a, b in zip(paths, paths[1:])))
-        out.append(replace(lp, kind=kind, paths=paths, widths=widths, travel_length=travel))
+        out.append(replace(lp, kind=kind, paths=paths, widths=widths, hang=hang, travel_length=travel))
     return out
 
 

@@ -6,8 +6,9 @@ interface), then each island's four (`ISLAND_ROLES`, in the order an
 island prints them). Filling is sparse, solid, top skin (solid filling
 that the layer above leaves exposed) or bridge (lines laid across a gap); the
 outer wall of a hole is its own kind, ``hole`` (an external perimeter in
-PrusaSlicer's words, an internal loop by role). So an extrusion is one of
-twelve kinds (`KINDS`), each with its role (`ROLE_OF`). `STYLES` names each kind once for every output: the
+PrusaSlicer's words, an internal loop by role), and a stretch of perimeter over
+nothing is an ``overhang`` piece of its loop (`LayerPaths.pieces`). So an
+extrusion is one of thirteen kinds (`KINDS`), each with its role (`ROLE_OF`). `STYLES` names each kind once for every output: the
 ``;TYPE:`` word PrusaSlicer's G-code viewer reads (PrusaSlicer writes skirt and
 brim alike as ``Skirt/Brim``), that viewer's colour (used in the per-layer
 SVGs) and the colour on white matplotlib axes (gap fill, white in the viewer,
@@ -35,10 +36,10 @@ ROLES = ("skirt", "brim", "support", *ISLAND_ROLES)
 #: What a filling path is.
 FILLING_KINDS = ("sparse", "solid", "top", "bridge")
 #: The kind of an extrusion: its role, with filling split into its kinds.
-KINDS = ("skirt", "brim", "support", "support_interface", "external", "hole", "internal", "gap_fill",
+KINDS = ("skirt", "brim", "support", "support_interface", "external", "hole", "internal", "overhang", "gap_fill",
          *FILLING_KINDS)
 #: The role of each kind: filling kinds are filling, the others their own role.
-ROLE_OF = {k: ("filling" if k in FILLING_KINDS else "internal" if k == "hole" else
+ROLE_OF = {k: ("filling" if k in FILLING_KINDS else "internal" if k in ("hole", "overhang") else
               "support" if k.startswith("support") else k) for k in KINDS}
 
 
@@ -67,6 +68,7 @@ STYLES = {
     "support_interface": RoleStyle("Support material interface", "#008000", "#1b5e20"),
     "external": RoleStyle("External perimeter", "#e8590c", "#e8590c"),
     "hole": RoleStyle("External perimeter", "#e8590c", "#c2255c"),
+    "overhang": RoleStyle("Overhang perimeter", "#1f1fff", "#364fc7"),
     "internal": RoleStyle("Perimeter", "#f59f00", "#f59f00"),
     "gap_fill": RoleStyle("Gap fill", "#ffffff", "#1c7ed6"),
     "sparse": RoleStyle("Internal infill", "#b02e26", "#b02e26"),

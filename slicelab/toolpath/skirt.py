@@ -146,7 +146,8 @@ def with_skirt(paths, skirt: list, brim: list):
     w = paths.line_width
     rows = [("skirt", q, w) for q in skirt] + [("brim", q, w) for q in brim]
     out = replace(paths, kind=tuple(r[0] for r in rows) + paths.kind, paths=tuple(r[1] for r in rows) + paths.paths,
-                  widths=tuple(r[2] for r in rows) + paths.widths)
+                  widths=tuple(r[2] for r in rows) + paths.widths,
+                  hang=((None,) * len(rows) + paths.hang) if paths.hang else ())
     items = out.paths
     travel = float(sum(np.hypot(*(b[0] - a[-1])) for a, b in zip(items, items[1:])))
     return replace(out, travel_length=travel)

@@ -50,6 +50,9 @@ class LayerPaths:
         Islands too thin for one perimeter (printed as gap fill only).
     perimeters : Perimeters
         The perimeter stage's result (fields, regions), for plots.
+    hang : tuple of (None or (k - 1,) bool ndarray)
+        Per row, which of its segments lie over nothing (overhang perimeters,
+        `slicelab.toolpath.overhangs.mark_overhangs`); empty when none was marked.
 
     Examples
     --------
@@ -72,6 +75,7 @@ class LayerPaths:
     z: float = float("nan")
     thin_walls: int = 0
     perimeters: Perimeters | None = field(default=None, repr=False)
+    hang: tuple = ()
 
     def __post_init__(self):
         unknown = set(self.kind) - set(KINDS)
@@ -79,6 +83,8 @@ class LayerPaths:
             raise ValueError(f"unknown path kinds {sorted(unknown)}; expected some of {KINDS}")
         if not len(self.kind) == len(self.paths) == len(self.widths):
             raise ValueError("kind, paths and widths need one entry per row")
+        if self.hang and len(self.hang) != len(self.kind):
+            raise ValueError("hang needs one entry per row (or none at all)")
 
     def __len__(self) -> int:
         return len(self.kind)
@@ -94,6 +100,20 @@ class LayerPaths:
         """A table from (kind, path, width) rows in print order; `kw` fills the other fields."""
         rows = list(rows)
         return cls(tuple(r[0] for r in rows), tuple(r[1] for r in rows), tuple(r[2] for r in rows), **kw)
+
+    def pieces(self):
+        """Yield (kind, polyline, width) in print order, each row cut where it starts or stops
+        hanging over nothing: those stretches come as kind ``"overhang"``. Consecutive pieces of a
+        row share their end points, so they print as one move."""
+        hang = self.hang or (None,) * len(self.kind)
+        for k, q, w, h in zip(self.kind, self.paths, self.widths, hang):
+            if h is None or not np.any(h):
+                yield k, q, w
+                continue
+            cuts = np.flatnonzero(np.diff(h.astype(np.int8))) + 1  # segment index where a run starts
+            for a, b in zip(np.r_[0, cuts], np.r_[cuts, len(h)]):  # over the runs, few
+                ww = w if np.ndim(w) == 0 else w[a:b + 1]
+                yield ("overhang" if h[a] else k), q[a:b + 1], ww
 
     def rows(self, kinds=None):
         """Yield (kind, polyline, width) in print order, of the given kinds only if given."""

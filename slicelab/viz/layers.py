@@ -199,7 +199,7 @@ def plan_3d(plan, layers=None, ax=None, *, lw: float = 0.5, elev: float = 25, az
     segs, cols = [], []
     for k in layers:
         lp = plan.layers[k]
-        for kind, (_, q, _) in zip(lp.kinds(), lp.ordered()):
+        for kind, q, _ in lp.pieces():
             segs.append(np.column_stack([q, np.full(len(q), lp.z)]))
             cols.append(STYLES[kind].plot_colour)
     if segs:
@@ -262,7 +262,7 @@ def preview_png(plan, path, layers=None, *, dpi: int = 110) -> None:
     for ax, k in zip(axs.ravel(), layers):
         lp = plan.layers[k]
         segs, colours, moves, prev = [], [], [], None
-        for kind, (_, q, _) in zip(lp.kinds(), lp.ordered()):
+        for kind, q, _ in lp.pieces():
             segs.append(q)
             colours.append(STYLES[kind].plot_colour)
             if prev is not None:
