@@ -90,7 +90,10 @@ def test_only_steep_overhangs_are_reported(angle, unsupported):
         # Every layer above the first leans out by h tan(60) = 0.43 mm, beyond h tan(50) = 0.30 mm.
         assert (pp.overhangs[1:, 0] > 0).mean() > 0.9
         w = next(w for w in pp.warnings() if w["code"] == "unsupported_overhang")
-        assert "60" not in w["message"] or "50" in w["message"]
+        # The angle measured from the masks: the layer's reach beyond the one below, to a pixel.
+        reach = pp.overhangs[1:, 5]
+        assert np.median(reach) == pytest.approx(60, abs=math.degrees(math.atan(0.1 / 0.25)))
+        assert w["steepest_deg"] >= 55 and "up to" in w["message"]
         assert pp.overhangs[1:, 3][np.isfinite(pp.overhangs[1:, 3])].min() > 9.0  # on the leaning +x side
 
 

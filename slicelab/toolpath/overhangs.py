@@ -72,6 +72,9 @@ class LayerOverhangs:
         A point of the largest unheld part (mm), to name it in a warning.
     unheld : tuple of (k, 2) ndarray
         The outlines of the unheld parts (mm, pixel-edge polygons): where supports go.
+    angle : float
+        The steepest overhang measured (degrees from the vertical): how far the layer reaches
+        beyond the one below, over the layer height; 0 when it stays within the threshold.
     """
 
     bridges: tuple = ()
@@ -79,6 +82,7 @@ class LayerOverhangs:
     mid_air: int = 0
     where: np.ndarray | None = None
     unheld: tuple = ()
+    angle: float = 0.0
 
 
 def _crop(mask) -> tuple[int, int, tuple] | None:
@@ -161,6 +165,8 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
     # between pixel centres: the edge of the material below lies half a pixel before its last one.
     dist = cv2.distanceTransform((~held).astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE) * p
     hanging = free & (dist - 0.5 * p > reach)
+    steepest = math.degrees(math.atan2(max(float(dist[free].max()) - 0.5 * p, 0.0), layer_height)) \
+        if free.any() else 0.0
     count, labels, stats, _ = cv2.connectedComponentsWithStats(hanging.astype(np.uint8), connectivity=8)
     min_px = 4 if min_anchor is None else max(1, int(min_anchor / (p * p)))
     grow = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * margin + 1, 2 * margin + 1))
@@ -189,7 +195,7 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
             rr, cc = np.nonzero(part)
             i = len(rr) // 2
             worst, where = px, np.array([(col0 + cc[i]) * p, (row0 + rr[i]) * p])
-    return LayerOverhangs(tuple(bridges), area, mid_air, where, tuple(outlines))
+    return LayerOverhangs(tuple(bridges), area, mid_air, where, tuple(outlines), steepest)
 
 
 def mark_overhangs(paths, below):

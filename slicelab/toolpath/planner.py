@@ -71,10 +71,11 @@ class PrintPlan:
         sparse filling region's boundary (mm, from its level set).
     part_volume : float
         Sum of material area x layer height (mm^3).
-    overhangs : (n, 5) ndarray
+    overhangs : (n, 6) ndarray
         Per layer (`slicelab.toolpath.overhangs`): the area over nothing beyond the overhang
-        threshold and not bridged (mm^2), the islands that start in mid-air, the bridges, and
-        a point (x, y; part coordinates, NaN if none) of the largest unheld part.
+        threshold and not bridged (mm^2), the islands that start in mid-air, the bridges,
+        a point (x, y; part coordinates, NaN if none) of the largest unheld part, and the
+        steepest overhang measured (degrees from the vertical, 0 within the threshold).
     seconds : dict
         Time spent slicing and making the paths.
 
@@ -91,7 +92,7 @@ class PrintPlan:
     areas: np.ndarray
     part_volume: float = 0.0
     seconds: dict = field(default_factory=dict)
-    overhangs: np.ndarray = field(default_factory=lambda: np.zeros((0, 5)))
+    overhangs: np.ndarray = field(default_factory=lambda: np.zeros((0, 6)))
 
     def warnings(self) -> list[dict]:
         """What will not print as planned, each a dict with a ``code`` and a ``message``.
@@ -110,11 +111,13 @@ class PrintPlan:
         hang = np.flatnonzero(ov[:, 0] > 0)
         if len(hang):
             k = hang[np.argmax(ov[hang, 0])]
+            steepest = float(ov[hang, 5].max())
             out.append({"code": "unsupported_overhang", "area_mm2": float(ov[hang, 0].sum()),
-                        "layers": int(len(hang)), "first_z": float(z[hang[0]]),
+                        "layers": int(len(hang)), "first_z": float(z[hang[0]]), "steepest_deg": steepest,
                         "message": f"{ov[hang, 0].sum():.1f} mm2 over nothing on {len(hang)} layers "
                                    f"(from z = {z[hang[0]]:.2f} mm) overhang more than "
-                                   f"{self.settings.overhang_threshold:g} degrees and no bridge holds them "
+                                   f"{self.settings.overhang_threshold:g} degrees (up to {steepest:.0f}) "
+                                   f"and no bridge holds them "
                                    f"(largest at x = {ov[k, 3]:.1f}, y = {ov[k, 4]:.1f} mm in the part's "
                                    f"coordinates){held}"})
         air = np.flatnonzero(ov[:, 1] > 0)
@@ -218,7 +221,8 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
         if items:
             pos = items[-1][1][-1]
         where = ov.where if ov is not None and ov.where is not None else (np.nan, np.nan)
-        held = (ov.overhang_area, ov.mid_air, len(ov.bridges), *where) if ov is not None else (0, 0, 0, np.nan, np.nan)
+        held = (ov.overhang_area, ov.mid_air, len(ov.bridges), *where, ov.angle) if ov is not None \
+            else (0, 0, 0, np.nan, np.nan, 0.0)
         out.append((k, replace(lp, z=float(z_tops[k - first]), perimeters=None), areas, held,
                     ov.unheld if ov is not None else ()))
     return out
@@ -348,7 +352,7 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     results.sort(key=lambda r: r[0])
     layers = [r[1] for r in results]
     areas = np.array([r[2] for r in results]).reshape(-1, 4)
-    overhangs = np.array([r[3] for r in results], np.float64).reshape(-1, 5)
+    overhangs = np.array([r[3] for r in results], np.float64).reshape(-1, 6)
     if s.support != "off":
         layers = _with_supports(layers, sections, [r[4] for r in results], s)
     heights = bounds[:, 1] - bounds[:, 0]
