@@ -256,3 +256,20 @@ def test_perimeters_over_nothing_print_as_overhang_perimeters(angle, tmp_path):
     blocks = [b for b in path.read_text().split(";TYPE:") if b.startswith("Overhang perimeter")]
     assert len(blocks) == len(pp.layers) - 1
     assert all(f"G1 F{60 * s.bridge_speed:.0f}" in b for b in blocks)
+
+
+def test_center_places_the_part_and_is_checked(tmp_path):
+    f = tmp_path / "cube.stl"
+    slicelab.save(box((0, 0, 0), (20, 20, 2)), f)
+    out = tmp_path / "c.gcode"
+    r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(f), "-o", str(out), "--center", "40,150",
+                        "--skirt-loops", "0", "--workers", "1"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    from test_plan import parse_gcode
+    moves, *_ = parse_gcode(out.read_text())
+    xy = np.array([(x1, y1) for layer, z, x0, y0, x1, y1, e, word, role in moves if e > 0 and layer >= 0])
+    assert np.allclose(xy.min(axis=0), [30.2, 140.2], atol=0.05) and np.allclose(xy.max(axis=0), [49.8, 159.8],
+                                                                                    atol=0.05)
+    r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(f), "-o", str(out), "--center", "5,100"],
+                       capture_output=True, text=True)
+    assert r.returncode == 2 and "bed" in r.stderr and len(r.stderr.strip().splitlines()) == 1
