@@ -112,3 +112,26 @@ def test_cut_points_float32_merges_stay_apart_in_the_written_parts(tmp_path):
     r = run_job("cut", "two.stl", {"plane": (origin, normal), "preview": False}, tmp_path, mesh=m)
     for name in ("rear", "front"):
         assert _tight_on_disk(tmp_path / f"{name}.stl") and r.results[name]["watertight"]
+
+
+@pytest.mark.parametrize("checked", [False, True], ids=["unchecked", "checked"])
+def test_the_file_holds_the_float32_facets_and_their_winding_normals(checked, tmp_path):
+    from slicelab.export import write_mesh
+    from slicelab.geometry.triangles import winding_normals
+    from slicelab.mesh.io import STL_RECORD
+    # A torus with a sliver whose two corners are one float32 point: that facet is left out.
+    t = torus(30, 10, 48, 24).triangles
+    sliver = np.array([[[100, 0, 0], [100 + 1e-6, 0, 0], [100.5, 1, 0]]])
+    m = Mesh(np.concatenate([t[:100], sliver, t[100:]]))
+    w = write_mesh(m, tmp_path / "t.stl", checked=checked)
+    raw = (tmp_path / "t.stl").read_bytes()
+    assert raw[:80] == b"slicelab t".ljust(80) and int.from_bytes(raw[80:84], "little") == len(t)
+    rec = np.frombuffer(raw, STL_RECORD, offset=84)
+    expected = np.concatenate([t[:100], t[100:]]).astype(np.float32)
+    assert len(raw) == 84 + 50 * len(t) and w.n_collapsed == 1
+    assert np.array_equal(rec["vertices"], expected) and not rec["attr"].any()
+    assert np.array_equal(rec["normal"], winding_normals(expected).astype(np.float32))
+    back = slicelab.load(tmp_path / "t.stl")
+    assert np.array_equal(back.triangles, expected.astype(np.float64))
+    if checked:
+        assert w.report == check(back) and w.report.watertight  # without the stray sliver: the torus

@@ -26,13 +26,18 @@ from pathlib import Path
 import numpy as np
 
 from ..geometry.topology import exact_ids
+from ..geometry.triangles import winding_normals
 from ..mesh import Mesh, MeshReport, check, save
+from ..mesh.io import write_binary_stl
 
 __all__ = ["WrittenMesh", "write_mesh", "as_float32", "distinct_float32"]
 
 #: Rounds of moving merged vertices apart before `distinct_float32` gives up (a moved vertex
 #: can land on a third one; each round resolves what the previous one made).
 _MAX_ROUNDS = 8
+#: Weights of y and z in the key that screens corners for equality (irrational-looking: points of a
+#: regular grid rarely share a key).
+_KEY = (1.6180339887, 2.7182818285)
 
 
 @dataclass(frozen=True)
@@ -79,16 +84,31 @@ def as_float32(mesh: Mesh) -> tuple[Mesh, int]:
     >>> len(m), n
     (12, 1)
     """
-    t32 = mesh.triangles.astype(np.float32)
-    # A facet collapses when two of its corners round to one point; only then is the surface
-    # around it mended (welding the whole mesh is the costly part, so it is done only then).
-    a, b, c = t32[:, 0], t32[:, 1], t32[:, 2]
-    collapsed = (a == b).all(axis=1) | (b == c).all(axis=1) | (c == a).all(axis=1)
-    if not collapsed.any():
-        return Mesh(t32.astype(np.float64)), 0
-    # Dropping a collapsed facet needs no weld: its two merged corners already close the surface
-    # around it (an edge collapse), so the cost stays one pass over the facets.
-    return Mesh(t32[~collapsed].astype(np.float64)), int(np.count_nonzero(collapsed))
+    t32, n_out = _rounded(mesh.triangles)
+    return Mesh(t32.astype(np.float64)), n_out
+
+
+def _rounded(triangles: np.ndarray) -> tuple[np.ndarray, int]:
+    """Triangles rounded to float32 without the facets that collapsed, and how many those were.
+
+    A facet collapses when two of its corners round to one point. Dropping it
+    needs no weld: its two merged corners already close the surface around it
+    (an edge collapse), so the cost stays one pass over the facets.
+    """
+    t32 = triangles.astype(np.float32)
+    # Corners that coincide have equal keys (one float32 sum per corner, the same operations on
+    # the same values): the full comparison is made only where two keys agree.
+    key = [t32[:, j, 0] + t32[:, j, 1] * np.float32(_KEY[0]) + t32[:, j, 2] * np.float32(_KEY[1])
+           for j in range(3)]
+    cand = np.flatnonzero((key[0] == key[1]) | (key[1] == key[2]) | (key[2] == key[0]))
+    c = t32[cand]
+    a, b, d = c[:, 0], c[:, 1], c[:, 2]
+    hit = cand[(a == b).all(axis=1) | (b == d).all(axis=1) | (d == a).all(axis=1)]
+    if len(hit) == 0:
+        return t32, 0
+    keep = np.ones(len(t32), bool)
+    keep[hit] = False
+    return t32[keep], len(hit)
 
 
 def _packed(v32: np.ndarray) -> np.ndarray:
@@ -184,6 +204,10 @@ def _defects(r: MeshReport) -> int:
 def write_mesh(mesh: Mesh, path, *, ascii: bool = False, checked: bool = True) -> WrittenMesh:
     """Write `mesh` as STL (atomically) and return the check of what the file holds.
 
+    The corners are rounded to float32 once and those values are written as
+    they are (binary: a record array straight to disk), with the winding
+    normals of the rounded corners.
+
     Parameters
     ----------
     mesh : Mesh
@@ -210,13 +234,23 @@ def write_mesh(mesh: Mesh, path, *, ascii: bool = False, checked: bool = True) -
     >>> out.report.watertight, check(load(out.path)) == out.report
     (True, True)
     """
-    written, n_out = as_float32(mesh)
-    report, n_moved = (check(written) if checked else None), 0
-    if report is not None and _defects(report) and len(written):
-        # Rounding changed the topology more than an edge collapse can mend: keep the mesh's own.
-        kept, n = distinct_float32(mesh)
-        kept_report = check(kept)
-        if _defects(kept_report) <= _defects(report):
-            written, report, n_out, n_moved = kept, kept_report, 0, n
-    save(written, path, ascii=ascii)
+    t32, n_out = _rounded(mesh.triangles)
+    report, n_moved = None, 0
+    if checked:
+        written = Mesh(t32.astype(np.float64))
+        report = check(written)
+        if _defects(report) and len(written):
+            # Rounding changed the topology more than an edge collapse can mend: keep the mesh's own.
+            kept, n = distinct_float32(mesh)
+            kept_report = check(kept)
+            if _defects(kept_report) <= _defects(report):
+                written, report, n_out, n_moved = kept, kept_report, 0, n
+                t32 = kept.triangles.astype(np.float32)  # float32 values: exact
+        normals = written.normals
+    else:
+        normals = winding_normals(t32)
+    if ascii:
+        save(Mesh(t32.astype(np.float64)), path, ascii=True)
+    else:
+        write_binary_stl(t32, normals, path)
     return WrittenMesh(Path(path), report, n_out, n_moved)

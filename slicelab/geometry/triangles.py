@@ -39,7 +39,8 @@ def winding_normals(triangles: np.ndarray) -> np.ndarray:
     Parameters
     ----------
     triangles : (n, 3, 3) array_like
-        Triangle corners in winding order.
+        Triangle corners in winding order (float32 corners are computed in
+        float64 too).
 
     Returns
     -------
@@ -52,10 +53,14 @@ def winding_normals(triangles: np.ndarray) -> np.ndarray:
     >>> winding_normals([[[0, 0, 0], [1, 0, 0], [0, 1, 0]]])
     array([[0., 0., 1.]])
     """
-    t = np.asarray(triangles, dtype=np.float64).reshape(-1, 3, 3)
+    t = np.asarray(triangles)
+    if t.dtype not in (np.float32, np.float64):
+        t = t.astype(np.float64)
+    t = t.reshape(-1, 3, 3)
     out = np.empty((len(t), 3))
     for s in range(0, len(t), _BLOCK):  # blocks of facets keep the temporaries in cache
-        n = edge_cross(t[s:s + _BLOCK])
+        # Single-precision corners are widened block by block: the products are float64 either way.
+        n = edge_cross(t[s:s + _BLOCK].astype(np.float64, copy=False))
         length = np.sqrt(np.einsum("ij,ij->i", n, n))
         # A facet of no area has no direction: its normal is zero rather than NaN.
         np.divide(n, length[:, None], out=n, where=length[:, None] > 0)

@@ -1,8 +1,9 @@
-"""Reading and writing STL through numpy-stl, and safe file output.
+"""Reading and writing STL, and safe file output.
 
-numpy-stl does the parsing; this module decides which format a file is in,
-refuses files that cannot be an STL before anything is allocated, and turns
-every failure into one `MeshFileError` that names the file and the reason.
+numpy-stl does the parsing and writes ASCII; binary files are written from a
+numpy record array. This module decides which format a file is in, refuses
+files that cannot be an STL before anything is allocated, and turns every
+failure into one `MeshFileError` that names the file and the reason.
 """
 from __future__ import annotations
 
@@ -13,14 +14,19 @@ from pathlib import Path
 
 import numpy as np
 
-from ..export.files import atomic_path
+from ..export.files import atomic_open, atomic_path
 from .formats import is_scan_format, read_scan, unit_scale
 from .core import Mesh
 
-__all__ = ["MeshFileError", "load", "save"]
+__all__ = ["MeshFileError", "load", "save", "write_binary_stl", "STL_RECORD"]
 
 _HEADER = 80
 _RECORD = 50  # 12 float32 + uint16 attribute
+#: One facet of a binary STL file: normal, three corners (float32, little-endian), attribute word.
+STL_RECORD = np.dtype([("normal", "<f4", (3,)), ("vertices", "<f4", (3, 3)), ("attr", "<u2")])
+assert STL_RECORD.itemsize == _RECORD
+#: Facets encoded at once when writing (a few MB: the record buffer stays small and in cache).
+_WRITE_CHUNK = 1 << 16
 _MAGIC = {
     b"\x89PNG": "a PNG image", b"\xff\xd8\xff": "a JPEG image", b"PK\x03\x04": "a ZIP archive",
     b"%PDF": "a PDF document", b"GIF8": "a GIF image", b"\x1f\x8b": "a gzip archive",
@@ -206,6 +212,48 @@ def _finish(p: Path, triangles, normals) -> Mesh:
     return Mesh(t, n)
 
 
+def write_binary_stl(triangles, normals, path, name: str = "") -> None:
+    """Write corners and normals as a binary STL file, atomically, without building a `Mesh`.
+
+    The values are stored as float32 (corners already in float32 are
+    stored bit for bit); the 80-byte header reads ``slicelab <name>``; each
+    attribute word is 0.
+
+    Parameters
+    ----------
+    triangles : (n, 3, 3) array_like
+    normals : (n, 3) array_like
+    path : str or os.PathLike
+    name : str, optional
+        Named in the header; the file's stem by default.
+
+    Examples
+    --------
+    >>> import tempfile, os
+    >>> t = np.array([[[0, 0, 0], [1, 0, 0], [0, 1, 0]]], np.float32)
+    >>> f = os.path.join(tempfile.mkdtemp(), "t.stl")
+    >>> write_binary_stl(t, [[0, 0, 1]], f)
+    >>> os.path.getsize(f), load(f).triangles.tolist() == t.tolist()
+    (134, True)
+    """
+    t = np.asarray(triangles).reshape(-1, 3, 3)
+    n = np.asarray(normals).reshape(-1, 3)
+    if len(n) != len(t):
+        raise ValueError(f"{len(t)} triangles but {len(n)} normals")
+    target = Path(path)
+    header = f"slicelab {name or target.stem}".encode("ascii", "replace")[:_HEADER].ljust(_HEADER, b" ")
+    records = np.zeros(min(len(t), _WRITE_CHUNK), STL_RECORD)
+    with atomic_path(target) as tmp:
+        with open(tmp, "wb") as fh:
+            fh.write(header)
+            fh.write(np.array(len(t), "<u4").tobytes())
+            for lo in range(0, len(t), _WRITE_CHUNK):  # over chunks of facets, one buffer reused
+                part = records[:min(_WRITE_CHUNK, len(t) - lo)]
+                part["normal"] = n[lo:lo + len(part)]
+                part["vertices"] = t[lo:lo + len(part)]
+                part.tofile(fh)
+
+
 def save(mesh: Mesh, path, ascii: bool = False) -> None:
     """Write a mesh as binary (default) or ASCII STL, atomically.
 
@@ -217,6 +265,10 @@ def save(mesh: Mesh, path, ascii: bool = False) -> None:
     path : str or os.PathLike
     ascii : bool, default False
 
+    See Also
+    --------
+    write_binary_stl : the binary writer, for corners already rounded to float32.
+
     Examples
     --------
     >>> import tempfile, os
@@ -225,6 +277,9 @@ def save(mesh: Mesh, path, ascii: bool = False) -> None:
     >>> save(m, f, ascii=True); len(load(f))
     1
     """
+    if not ascii:
+        write_binary_stl(mesh.triangles, mesh.normals, path)
+        return
     from stl import mesh as stl_mesh
     from stl.stl import Mode
     data = np.zeros(len(mesh), dtype=stl_mesh.Mesh.dtype)
@@ -232,11 +287,5 @@ def save(mesh: Mesh, path, ascii: bool = False) -> None:
     data["normals"] = mesh.normals
     m = stl_mesh.Mesh(data, calculate_normals=False)
     target = Path(path)
-    with atomic_path(target) as tmp:
-        with open(tmp, "wb") as fh:
-            m.save(target.stem or "slicelab", fh=fh, mode=Mode.ASCII if ascii else Mode.BINARY,
-                   update_normals=False)
-        if not ascii:
-            # numpy-stl stamps the header with the time; a fixed header keeps outputs reproducible.
-            with open(tmp, "r+b") as fh:
-                fh.write(f"slicelab {target.stem}".encode("ascii", "replace")[:80].ljust(80, b" "))
+    with atomic_open(target, "wb") as fh:
+        m.save(target.stem or "slicelab", fh=fh, mode=Mode.ASCII, update_normals=False)

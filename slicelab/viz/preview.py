@@ -1,270 +1,21 @@
 """Preview of a split: front and rear projected onto the plane, the section drawn over them.
 
-Millions of facets are drawn without a Python loop over them: each facet is
-projected onto the plane, tested against the pixel centres of its bounding
-box, and a depth buffer keeps, in each pixel, the facet nearest to a viewer
-on the front side (the side the plane's normal points to). A mesh with more
-facets than the picture has pixels is drawn decimated: every facet wider
-than two pixels, and of the others a stratified random sample as many as the
-pixels, each drawn as points (corners and centroid) spread over the 3 x 3
-pixels around them in the depth buffer, the coverage then closed (dilated
-and eroded by a pixel), so surfaces show without holes and silhouettes stay
-in place. Both panels are seen
-from that viewer and drawn in the plane's 2-D frame, so the section lies
-exactly over both: the front part from outside, and the rear part as it is
-seen once the front part is lifted away.
+Both halves are drawn by the depth buffer of `slicelab.viz.depth`
+(decimated past the pixels' count), seen from a viewer on the front side
+(the side the plane's normal points to) and in the plane's 2-D frame, so
+the section lies exactly over both: the front part from outside, and the
+rear part as it is seen once the front part is lifted away. `draw_split`
+makes a matplotlib figure of them; `save_split_preview` composes the PNG
+file as a pixel array (`slicelab.viz.canvas`), at a fraction of a figure's
+cost.
 """
 from __future__ import annotations
 
 import numpy as np
 
-from ..geometry.ragged import within_group
+from .depth import Projected, add_wide, render_projected, sample_facets
 
-__all__ = ["render_depth", "draw_split", "save_split_preview"]
-
-_FACING = np.array([0.80, 0.80, 0.82])           # facets seen from outside: light grey
-_BACK = np.array([0.78, 0.52, 0.33])             # facets seen from inside: terracotta
-
-
-class _Projected:
-    """Corners of facets in the plane's frame: (3n, 3) float32 rows of (s, t, depth).
-
-    Single precision is ample for a picture (a micrometre on a metre) and halves the memory
-    every pass over a scan's millions of corners reads.
-    """
-
-    def __init__(self, triangles, frame, ids=None):
-        t = np.asarray(triangles, dtype=np.float64)
-        self.ids = ids  # the facets drawn (indices into `triangles`); None: all of them
-        t = (t if ids is None else t[ids]).reshape(-1, 3)
-        axes = np.stack([frame.u, frame.v, frame.normal]).T
-        shift = frame.origin @ axes
-        # Column by column: a BLAS product with an inner size of 3 is slow on millions of rows.
-        self.q = np.empty((len(t), 3), np.float32)
-        for k in range(3):  # the three plane coordinates
-            self.q[:, k] = t[:, 0] * axes[0, k] + t[:, 1] * axes[1, k] + t[:, 2] * axes[2, k] - shift[k]
-
-    def add(self, other: "_Projected") -> None:
-        """Append the facets of `other` (both decimated: with ids)."""
-        self.q = np.concatenate([self.q, other.q])
-        self.ids = np.concatenate([self.ids, other.ids])
-
-    def bounds(self) -> np.ndarray:
-        """(2, 2) plane-coordinate bounds of the corners."""
-        if len(self.q) == 0:
-            return np.zeros((2, 2))
-        return np.array([[self.q[:, 0].min(), self.q[:, 1].min()], [self.q[:, 0].max(), self.q[:, 1].max()]],
-                        dtype=np.float64)
-
-
-#: Facets handled at once by the size pass of a decimated drawing (keeps each pass in cache).
-_CHUNK = 1 << 17
-
-
-def _sample(n: int, budget: int) -> np.ndarray | None:
-    """A stratified random sample of `budget` of `n` facet indices (sorted); None when n <= budget."""
-    if n <= budget:
-        return None
-    rng = np.random.default_rng(n)  # the same picture for the same mesh
-    return np.minimum(((np.arange(budget) + rng.random(budget)) * (n / budget)).astype(np.int64), n - 1)
-
-
-def _wide(triangles: np.ndarray, size: float) -> np.ndarray:
-    """Indices of facets with a corner more than `size` (mm, any axis) from their first corner."""
-    t = np.asarray(triangles, dtype=np.float64)
-    found = []
-    for lo in range(0, len(t), _CHUNK):  # over chunks of facets
-        c = t[lo:lo + _CHUNK]
-        reach = np.zeros(len(c))
-        for j in (1, 2):
-            for k in range(3):
-                np.maximum(reach, np.abs(c[:, j, k] - c[:, 0, k]), out=reach)
-        found.append(np.flatnonzero(reach > size) + lo)
-    return np.concatenate(found) if found else np.zeros(0, np.int64)
-
-
-def _add_wide(proj: _Projected, triangles, frame, pixel: float) -> None:
-    """Add to a sampled drawing every facet wider than two pixels (a large face is never left out)."""
-    if proj.ids is None:
-        return
-    wide = _wide(triangles, 2 * pixel)
-    wide = wide[~np.isin(wide, proj.ids)]
-    if len(wide):
-        proj.add(_Projected(triangles, frame, wide))
-
-
-def _spread(best, owner, shape) -> None:
-    """Close the drawn points: each pixel takes the nearest of its 3 x 3 neighbours, then the
-    coverage is eroded by a pixel (dilation then erosion: holes close, silhouettes stay)."""
-    import cv2
-    rows, cols = shape
-    b, o = best.reshape(rows, cols), owner.reshape(rows, cols)
-    nb, no = b.copy(), o.copy()
-    for dr in (-1, 0, 1):  # the eight neighbours, not pixels
-        for dc in (-1, 0, 1):
-            if dr == dc == 0:
-                continue
-            dst = (slice(max(dr, 0), rows + min(dr, 0)), slice(max(dc, 0), cols + min(dc, 0)))
-            src = (slice(max(-dr, 0), rows + min(-dr, 0)), slice(max(-dc, 0), cols + min(-dc, 0)))
-            nearer = b[src] > nb[dst]
-            nb[dst] = np.where(nearer, b[src], nb[dst])
-            no[dst] = np.where(nearer, o[src], no[dst])
-    kept = cv2.erode((no >= 0).astype(np.uint8), np.ones((3, 3), np.uint8), borderType=cv2.BORDER_REPLICATE)
-    keep = kept.astype(bool) | (o >= 0)  # a drawn pixel is never erased
-    best[:] = np.where(keep, nb, -np.inf).reshape(-1)
-    owner[:] = np.where(keep, no, -1).reshape(-1)
-
-
-def _render(proj: _Projected, normals, frame, extent, shape, block: int) -> np.ndarray:
-    rows, cols = shape
-    out = np.zeros((rows, cols, 4))
-    if len(proj.q) == 0:
-        return out
-    n = np.asarray(normals, dtype=np.float64)
-    if proj.ids is not None:
-        n = n[proj.ids]
-    s0, s1, t0, t1 = map(float, extent)
-    # Pixel coordinates with pixel centres on integers: x to the right, y downwards.
-    x = (proj.q[:, 0] * np.float32(cols / (s1 - s0)) - np.float32(s0 * cols / (s1 - s0) + 0.5)).reshape(-1, 3)
-    y = (proj.q[:, 1] * np.float32(-rows / (t1 - t0)) + np.float32(t1 * rows / (t1 - t0) - 0.5)).reshape(-1, 3)
-    depth = proj.q[:, 2].reshape(-1, 3)  # larger is nearer the viewer
-    best = np.full(rows * cols, -np.inf, dtype=np.float32)
-    owner = np.full(rows * cols, -1, dtype=np.int64)
-    # A facet within a pixel of its first corner is drawn as two points, that corner and its
-    # centroid: a dense scan has several facets per pixel, and a point costs a fraction of a facet
-    # expanded over its pixels. Larger facets are filled.
-    reach = np.abs(x[:, 1] - x[:, 0])
-    for a, b in ((x, 2), (y, 1), (y, 2)):
-        np.maximum(reach, np.abs(a[:, b] - a[:, 0]), out=reach)
-    decimated = proj.ids is not None
-    # Decimated, points are spread over their 3 x 3 pixels: facets up to three pixels are points.
-    small = reach <= (3.0 if decimated else 1.0)
-    _splat(small, x, y, depth, rows, cols, best, owner, corners=decimated)
-    if decimated:
-        _spread(best, owner, shape)
-    big = np.flatnonzero(~small)
-    if len(big):
-        _fill(big, x, y, depth, rows, cols, best, owner, block)
-    hit = np.flatnonzero(owner >= 0)
-    cos = n[owner[hit]] @ frame.normal
-    light = (0.35 + 0.65 * np.abs(cos))[:, None]
-    flat = out.reshape(-1, 4)
-    flat[hit, :3] = np.where((cos >= 0)[:, None], _FACING, _BACK) * light
-    flat[hit, 3] = 1.0
-    return out
-
-
-def _splat(small, x, y, depth, rows, cols, best, owner, corners: bool = False) -> None:
-    """Z-buffer the facets marked `small` as points: the first corner and the centroid (with
-    `corners`, all three corners and the centroid)."""
-    third = np.float32(1 / 3)
-    points = [(x[:, 0], y[:, 0], depth[:, 0]),
-              ((x[:, 0] + x[:, 1] + x[:, 2]) * third, (y[:, 0] + y[:, 1] + y[:, 2]) * third,
-               (depth[:, 0] + depth[:, 1] + depth[:, 2]) * third)]
-    if corners:
-        points += [(x[:, j], y[:, j], depth[:, j]) for j in (1, 2)]
-    for px, py, z in points:
-        c, r = np.rint(px).astype(np.int32), np.rint(py).astype(np.int32)
-        inside = np.flatnonzero(small & (c >= 0) & (c < cols) & (r >= 0) & (r < rows))
-        pix = r[inside].astype(np.int64) * cols + c[inside]
-        z = z[inside]
-        np.maximum.at(best, pix, z)
-        win = z == best[pix]
-        owner[pix[win]] = inside[win]
-
-
-def _fill(f, x, y, depth, rows, cols, best, owner, block: int) -> None:
-    """Z-buffer facets `f` over every pixel centre inside them (edge functions), in blocks."""
-    x, y, depth = x[f].astype(np.float64), y[f].astype(np.float64), depth[f].astype(np.float64)
-    c_lo = np.clip(np.ceil(x.min(axis=1)), 0, cols).astype(np.int64)
-    c_hi = np.clip(np.floor(x.max(axis=1)), -1, cols - 1).astype(np.int64)
-    r_lo = np.clip(np.ceil(y.min(axis=1)), 0, rows).astype(np.int64)
-    r_hi = np.clip(np.floor(y.max(axis=1)), -1, rows - 1).astype(np.int64)
-    w = np.maximum(c_hi - c_lo + 1, 0)
-    count = w * np.maximum(r_hi - r_lo + 1, 0)
-    live = np.flatnonzero(count > 0)  # facets that hold at least one pixel centre in their box
-    if len(live) == 0:
-        return
-    ends = np.searchsorted(np.cumsum(count[live]), np.arange(block, int(count[live].sum()) + block, block))
-    start = 0
-    for stop in np.unique(np.minimum(ends + 1, len(live))):  # over blocks of facets, not facets
-        sel = live[start:stop]
-        start = stop
-        if len(sel) == 0:
-            continue
-        k = count[sel]
-        local = np.repeat(sel, k)
-        fid = f[local]
-        j = within_group(k)
-        px = c_lo[local] + j % w[local]
-        py = r_lo[local] + j // w[local]
-        # Edge functions: the pixel centre is inside when all three have the facet's orientation.
-        xa, ya = x[local], y[local]
-        e0 = (xa[:, 1] - xa[:, 0]) * (py - ya[:, 0]) - (ya[:, 1] - ya[:, 0]) * (px - xa[:, 0])
-        e1 = (xa[:, 2] - xa[:, 1]) * (py - ya[:, 1]) - (ya[:, 2] - ya[:, 1]) * (px - xa[:, 1])
-        e2 = (xa[:, 0] - xa[:, 2]) * (py - ya[:, 2]) - (ya[:, 0] - ya[:, 2]) * (px - xa[:, 2])
-        total = e0 + e1 + e2
-        inside = (((e0 >= 0) & (e1 >= 0) & (e2 >= 0)) | ((e0 <= 0) & (e1 <= 0) & (e2 <= 0))) & (total != 0)
-        fid, pix = fid[inside], (py * cols + px)[inside]
-        # Depth at the pixel centre from the barycentric weights (e1 weighs corner 0, e2 corner 1).
-        dz = depth[local[inside]]
-        z = ((e1[inside] * dz[:, 0] + e2[inside] * dz[:, 1] + e0[inside] * dz[:, 2]) / total[inside]).astype(np.float32)
-        cand = np.full(rows * cols, -np.inf, dtype=np.float32)
-        np.maximum.at(cand, pix, z)
-        win = (z == cand[pix]) & (z > best[pix])
-        best[pix[win]] = z[win]
-        owner[pix[win]] = fid[win]
-
-
-def render_depth(triangles, normals, frame, extent, shape, *, block: int = 4_000_000,
-                 decimate: bool = True):
-    """Shade of the facet nearest the viewer in each pixel (orthographic, along -normal).
-
-    Facets that cover pixel centres are expanded over the pixels of their
-    bounding box and tested with edge functions, in blocks of about `block`
-    candidates; facets smaller than a pixel (a dense scan's) are drawn as two
-    points each (first corner and centroid), a few operations per facet. A
-    depth buffer keeps the nearest. With more facets than pixels (and
-    `decimate`), the drawing is decimated as the module describes.
-
-    Parameters
-    ----------
-    triangles : (n, 3, 3) ndarray
-    normals : (n, 3) ndarray
-        Unit facet normals (for shading and to tell outside from inside).
-    frame : Frame
-        The plane; the viewer looks along ``-frame.normal``.
-    extent : (4,) sequence
-        ``(s_min, s_max, t_min, t_max)`` of the image in plane coordinates (mm).
-    shape : (rows, cols)
-    block : int
-        Candidates (facet, pixel) handled at once; bounds the memory used.
-    decimate : bool, default True
-        Draw a mesh of more facets than pixels from a sample (every facet
-        wider than two pixels kept); False draws every facet.
-
-    Returns
-    -------
-    (rows, cols, 4) float ndarray
-        RGBA, row 0 at ``t_max`` (as `imshow` draws it with ``origin="upper"``);
-        transparent where no facet projects.
-
-    Examples
-    --------
-    >>> from slicelab.samples import box
-    >>> from slicelab.geometry import Frame
-    >>> m = box((0, 0, 0), (1, 1, 1))
-    >>> img = render_depth(m.triangles, m.normals, Frame.from_plane((0, 0, 0), (0, 0, 1)),
-    ...                    (-1, 2, -1, 2), (30, 30))
-    >>> img.shape, float(img[..., 3].sum())  # the unit square: 10 x 10 pixels of 0.1 mm
-    ((30, 30, 4), 100.0)
-    """
-    s0, s1, t0, t1 = map(float, extent)
-    rows, cols = shape
-    pixel = max((s1 - s0) / cols, (t1 - t0) / rows)
-    proj = _Projected(triangles, frame, _sample(len(triangles), rows * cols) if decimate else None)
-    _add_wide(proj, triangles, frame, pixel)
-    return _render(proj, normals, frame, extent, shape, block)
+__all__ = ["draw_split", "save_split_preview"]
 
 
 def _extent(boxes, margin: float = 0.04):
@@ -317,12 +68,12 @@ def _panels(split, pixels: int):
     frame = split.section.frame
     budget = pixels * pixels
     halves = (split.front.triangles, split.rear.triangles)
-    drawn = [_Projected(t, frame, _sample(len(t), budget)) for t in halves]
+    drawn = [Projected(t, frame, sample_facets(len(t), budget)) for t in halves]
     section = [split.section.bounds() if len(split.section.segments) else None]
     extent = _extent(section + [p.bounds() if len(p.q) else None for p in drawn])
     pixel = max(extent[1] - extent[0], extent[3] - extent[2]) / pixels
     for t, proj in zip(halves, drawn):
-        _add_wide(proj, t, frame, pixel)
+        add_wide(proj, t, frame, pixel)
     front, rear = drawn
     return front, rear, _extent(section + [p.bounds() if len(p.q) else None for p in drawn])
 
@@ -371,7 +122,7 @@ def _draw(split, panels, pixels: int, axes):
     frame = split.section.frame
     panels = ((axes[0], front, split.front, "front"), (axes[1], rear, split.rear, "rear (front lifted away)"))
     for ax, proj, mesh, title in panels:
-        img = _render(proj, mesh.normals, frame, (s0, s1, t0, t1), shape, 4_000_000)
+        img = render_projected(proj, mesh.normals, frame, (s0, s1, t0, t1), shape, 4_000_000)
         # Bytes, not floats: matplotlib resamples and composes a uint8 image several times faster.
         ax.imshow(np.rint(img * 255).astype(np.uint8), extent=(s0, s1, t0, t1), origin="upper", interpolation="nearest")
         ax.set_xlim(s0, s1)
@@ -386,27 +137,92 @@ def _draw(split, panels, pixels: int, axes):
     return fig
 
 
-def save_split_preview(split, path, *, pixels: int = 700, dpi: int = 100) -> None:
-    """Write `draw_split` as a PNG, atomically.
+def _rings_px(section, extent, shape, x0: int, y0: int):
+    """The section's rings and open chains in canvas pixels (pixel centres on integers), each ring
+    simplified to a third of a pixel (a scan's section has more points than a picture can show)."""
+    import cv2
+    s0, s1, t0, t1 = extent
+    rows, cols = shape
+    sx, sy = cols / (s1 - s0), rows / (t1 - t0)
+
+    def px(r):
+        return np.column_stack([x0 + (r[:, 0] - s0) * sx - 0.5, y0 + (t1 - r[:, 1]) * sy - 0.5])
+
+    def thin(r):
+        if len(r) < 8:
+            return r
+        q = cv2.approxPolyDP(np.ascontiguousarray(r, dtype=np.float32).reshape(-1, 1, 2), 1 / 3, True)
+        return q.reshape(-1, 2).astype(np.float64) if len(q) >= 3 else r
+
+    rings = [thin(px(np.asarray(r, dtype=np.float64)))
+             for poly in section.polygons for r in (poly.exterior, *poly.holes)]
+    return rings, [px(np.asarray(c, dtype=np.float64)) for c in section.open_chains]
+
+
+_SECTION = (192, 57, 43)   # the section's red (RGB)
+_OPEN = (230, 126, 34)     # open chains of the section: orange
+
+
+def save_split_preview(split, path, *, pixels: int = 500) -> dict:
+    """Write the split's two panels and its section as a PNG, atomically.
+
+    The picture is `draw_split`'s (front, and rear with the front lifted
+    away, in the plane's frame, the section in red over both: a light fill
+    and an outline; open chains of the section in orange), composed as a
+    pixel array with OpenCV (`slicelab.viz.canvas`) instead of a matplotlib
+    figure: each panel is rendered at the size it is shown, framed, with
+    millimetre ticks.
+
+    Parameters
+    ----------
+    split : Split
+    path : str or os.PathLike
+    pixels : int, default 500
+        Size of the longer side of each panel.
+
+    Returns
+    -------
+    dict
+        Where things lie in the picture: ``"panels"``, the front's and the
+        rear's ``(x, y, width, height)`` in pixels (top-left corner first),
+        and ``"extent"``, the ``(s_min, s_max, t_min, t_max)`` (mm, plane
+        frame) each panel shows.
 
     Examples
     --------
     >>> import slicelab, tempfile, os
     >>> from slicelab.samples import box
     >>> out = os.path.join(tempfile.mkdtemp(), "p.png")
-    >>> save_split_preview(slicelab.split(box(), (0, 0, 0.5), (1, 1, 1)), out, pixels=60)
+    >>> layout = save_split_preview(slicelab.split(box(), (0, 0, 0.5), (1, 1, 1)), out, pixels=60)
+    >>> layout["panels"][1][2:]  # width and height of the rear panel
+    (53, 60)
     >>> open(out, "rb").read(4)
     b'\\x89PNG'
     """
-    from matplotlib.figure import Figure  # no pyplot: works under any backend, leaves no figure open
-
     from ..export.files import atomic_path
-    panels = _panels(split, pixels)
-    width, height = _figsize(panels[2])
-    fig = Figure(figsize=(width, height))
-    # Fixed margins (inches) instead of a layout engine, which draws the figure once more to measure it.
-    fig.subplots_adjust(left=0.75 / width, right=1 - 0.15 / width, bottom=0.6 / height, top=1 - 0.65 / height,
-                        wspace=0.15)
-    _draw(split, panels, pixels, fig.subplots(1, 2))
+    from .canvas import Canvas
+    front, rear, extent = _panels(split, pixels)
+    s0, s1, t0, t1 = extent
+    scale = pixels / max(s1 - s0, t1 - t0)
+    shape = (max(int(round((t1 - t0) * scale)), 1), max(int(round((s1 - s0) * scale)), 1))
+    rows, cols = shape
+    left, gap, top, bottom, right = 70, 40, 62, 50, 15
+    canvas = Canvas(left + 2 * cols + gap + right, top + rows + bottom)
+    frame = split.section.frame
+    titles = ("front", "rear (front lifted away)")
+    boxes = []
+    for k, (proj, mesh) in enumerate(((front, split.front), (rear, split.rear))):
+        x0 = left + k * (cols + gap)
+        boxes.append((x0, top, cols, rows))
+        canvas.paste(render_projected(proj, mesh.normals, frame, extent, shape, 4_000_000, np.uint8), x0, top)
+        rings, chains = _rings_px(split.section, extent, shape, x0, top)
+        canvas.polygons(rings, colour=_SECTION, alpha=0.25, width=1)
+        canvas.lines(chains, colour=_OPEN)
+        canvas.axes(x0, top, cols, rows, extent, xlabel="s (mm, plane frame)", title=titles[k],
+                    ylabel="t (mm, plane frame)" if k == 0 else "", ticks_left=k == 0)
+    canvas.text(f"{split.n_front:,} facets in front, {split.n_cut:,} cut, {split.n_rear:,} behind; "
+                f"section {split.section.area:.6g} mm2 (red)", canvas.rgb.shape[1] / 2, 20, anchor="centre")
+    data = canvas.png()
     with atomic_path(path) as tmp:
-        fig.savefig(tmp, dpi=dpi, format="png", pil_kwargs={"compress_level": 1})  # 5x faster, 1.5x larger
+        tmp.write_bytes(data)
+    return {"panels": boxes, "extent": tuple(float(v) for v in extent)}
