@@ -342,7 +342,7 @@ def _section_fits(t: np.ndarray, point: np.ndarray, direction: np.ndarray, n_pla
             radius = np.sqrt(np.maximum(sol[2:] + sol[0] ** 2 + sol[1] ** 2, 0.0))
             e = np.hypot(p[:, 0] - sol[0], p[:, 1] - sol[1]) - radius[label]
             wk = _tukey(e, w, 1e-9 * float(radius.mean()) + 1e-300)
-        fits.append((h, sol[0], sol[1], wk.sum(), p, w, label, k))
+        fits.append((h, sol[0], sol[1], wk.sum(), p, w, label, k, wk))
     return R, z0, z1, fits
 
 
@@ -378,7 +378,8 @@ def circle_pass(t: np.ndarray, point, direction, n_planes: int = 16, min_sectors
         relative to the mean radius, median relative deviation; with
         `shape`, then the RMS of the radial deviations averaged over sectors
         of 10 degrees of each wall, the shape's own departure from circles
-        with the noise averaged out, and the mean radius), or None when no
+        with the noise averaged out and the points the biweight dropped (a
+        handle's root) left out, and the mean radius), or None when no
         section has a usable wall.
 
     See Also
@@ -410,18 +411,18 @@ def circle_pass(t: np.ndarray, point, direction, n_planes: int = 16, min_sectors
     # Residual of the revolution model: radii about the fitted line, one radius per wall.
     errors, weights, rsum = [], [], 0.0
     shape_sq, shape_w = 0.0, 0.0
-    for (hj, _, _, _, p, w, label, k) in fits:  # over planes
+    for (hj, _, _, _, p, w, label, k, wk) in fits:  # over planes
         dx, dy = p[:, 0] - (x0 + kx * hj), p[:, 1] - (y0 + ky * hj)
         r = np.hypot(dx, dy)
-        radius = np.bincount(label, w * r, k) / np.bincount(label, w, k)
+        radius = np.bincount(label, wk * r, k) / np.maximum(np.bincount(label, wk, k), 1e-300)
         err = r - radius[label]
         errors.append(err)
         weights.append(w)
         rsum += float((w * radius[label]).sum())
-        if shape:  # the deviation averaged per wall and sector of 10 degrees
+        if shape:  # the deviation averaged per wall and sector of 10 degrees, outliers (a handle's root) out
             sector = label * 36 + (np.floor((np.arctan2(dy, dx) + np.pi) / (2 * np.pi) * 36).astype(np.int64) % 36)
-            sw = np.bincount(sector, w, 36 * k)
-            mean = np.bincount(sector, w * err, 36 * k) / np.maximum(sw, 1e-300)
+            sw = np.bincount(sector, wk, 36 * k)
+            mean = np.bincount(sector, wk * err, 36 * k) / np.maximum(sw, 1e-300)
             shape_sq += float((sw * mean * mean).sum())
             shape_w += float(sw.sum())
     e, w = np.abs(np.concatenate(errors)), np.concatenate(weights)
