@@ -2,7 +2,9 @@
 
 Convention: a vertical axis line (dash-dot); on one side the section of the
 wall filled black; on the other the exterior outline; a rim line across the
-mouth; a scale bar in centimetres; a label with the main measurements. The
+mouth; a scale bar in centimetres; a label with the main measurements. A
+sherd is drawn in sherd position: its section only, the rim line to the
+reconstructed diameter dashed. The
 SVG here (`slicelab.export.SvgDrawing`) and the PNG (`slicelab.viz.profile_png`)
 are drawn from one `layout`, so they cannot disagree.
 """
@@ -52,7 +54,15 @@ def layout(profile, *, side: str = "left", spread: bool = False, label: str | No
     >>> [name for name, _ in layout(profile(pot(20, 24), planes=2))["layers"]]
     ['axis', 'section', 'exterior', 'rim', 'scale', 'label']
 
-    A body or a base sherd has no rim layer, and a label only of what it holds.
+    A sherd is drawn in sherd position: its section on `side` at its radius
+    from the reconstructed axis, no exterior mirrored from it; a rim sherd's
+    rim line runs dashed across the mouth to the reconstructed diameter, a
+    body or a base sherd has none; the label holds only what the sherd gives.
+
+    >>> from slicelab.samples import scan
+    >>> sherd, _ = scan("beaker", spacing=2.0, sherd="rim", span=90.0)
+    >>> [name for name, _ in layout(profile(sherd, planes=2))["layers"]]
+    ['axis', 'section', 'rim', 'scale', 'label']
     """
     if side not in ("left", "right"):
         raise ValueError(f"side must be 'left' or 'right', got {side!r}")
@@ -73,13 +83,20 @@ def layout(profile, *, side: str = "left", spread: bool = False, label: str | No
         layers.append(("spread", [("line", np.vstack([mirror(x.polygon, s), mirror(x.polygon[:1], s)]),
                                    THIN, None) for x in others]))
     layers.append(("section", [("polygon", [mirror(h.polygon, s), *[mirror(x, s) for x in h.holes]])]))
-    layers.append(("exterior", [("line", mirror(h.outer, -s), LINE, None)]))
     sherd = getattr(profile, "sherd", None)
-    if sherd is None or sherd.kind == "rim":  # a body or base sherd has no rim to draw
+    if sherd is None:  # a whole vessel: its exterior on the other side, the rim line across the mouth
+        layers.append(("exterior", [("line", mirror(h.outer, -s), LINE, None)]))
         rim_in = h.inner[0] if len(h.inner) else h.polygon[h.top]
         rim_out = h.outer[0] if len(h.outer) else h.polygon[h.top]
         layers.append(("rim", [("line", np.array([[s * rim_in[0], rim_in[1]], [-s * rim_out[0], rim_out[1]]]),
                                 LINE, None)]))
+    elif sherd.kind == "rim":
+        # Sherd position: the section alone, nothing mirrored; the rim line across the mouth to the
+        # reconstructed diameter is dashed.
+        top = h.polygon[int(np.argmax(h.polygon[:, 1]))]
+        r_rim = m.rim_diameter / 2 if np.isfinite(m.rim_diameter) else float(top[0])
+        layers.append(("rim", [("line", np.array([[s * float(top[0]), float(top[1])], [-s * r_rim, float(top[1])]]),
+                                THIN, "3 1.5")]))
 
     margin = 10.0
     width = max(2 * (r_max + margin), 110.0)
