@@ -118,13 +118,22 @@ def test_rim_sherds_of_60_degrees_or_more_meet_the_targets(form, span):
     m = p.measurements
     assert math.isnan(m.capacity) and math.isnan(m.base_diameter) and math.isnan(m.height)
     assert m.wall_thickness_mean == pytest.approx(truth["wall"], rel=0.1)
+    # Drawn in sherd position: the section alone on the left, at its radius; no exterior mirrored
+    # from it; the rim line dashed across the mouth to the reconstructed diameter.
+    layers = dict(layout(p, side="left")["layers"])
+    assert "exterior" not in layers
+    section = layers["section"][0][1][0]
+    assert section[:, 0].max() < 0 and -section[:, 0].min() == pytest.approx(truth["max_diameter"] / 2, rel=0.05)
+    (kind, line, _, dash), = layers["rim"]
+    assert dash and line[:, 0].max() == pytest.approx(s.rim_diameter / 2, rel=1e-9)
 
 
 def test_a_base_sherd_stands_on_its_base_and_gives_the_base_diameter():
     mesh, truth = samples.scan("pot", spacing=SHERD, noise=0.1, seed=8, sherd="base", span=90.0)
-    s = align(mesh).sherd
+    a = align(mesh)
+    s = a.sherd
     assert s.kind == "base" and s.up_from == "base plane"
-    assert angle_deg(align(mesh).axis, truth["axis"]) <= 2.0
+    assert angle_deg(a.axis, truth["axis"]) <= 2.0
     assert rel(s.base_diameter, truth["base_diameter"]) <= 0.02
     assert math.isnan(s.rim_diameter)
 
@@ -165,6 +174,13 @@ def test_the_profile_report_names_each_cause(tmp_path):
     holed, _ = samples.scan("pot", spacing=1.5, seed=13, holes=2, hole_radius=10.0)
     _, codes = _report(holed, tmp_path, "holed")
     assert "hole_in_wall" in codes
+    # The rim top not captured: every section is open; closed across the rim, the capacity holds.
+    opened, truth = samples.scan("beaker", spacing=1.5, noise=0.05, seed=15, open_rim=True)
+    r, codes = _report(opened, tmp_path, "opened")
+    assert "open_rim" in codes and f"--max-gap {r.results['closed_gap']:g}" in codes["open_rim"]
+    assert 3.0 <= r.results["closed_gap"] <= 4.0  # the rim land is 3 mm wide, and noisy
+    assert rel(r.results["capacity"], truth["capacity"]) <= 0.02
+    assert rel(r.results["height"], truth["height"]) <= 0.01
     sherd, _ = samples.scan("pot", spacing=1.5, seed=14, sherd="body", span=50.0)
     r, codes = _report(sherd, tmp_path, "sherd")
     assert "sherd" in codes and "upside_down_risk" in codes

@@ -21,9 +21,10 @@ from ..slicing.sections import section
 from . import axis
 from .measure import UP_COSINE, Measurements, clip_ring, half_outlines, measure_halves, resample
 
-__all__ = ["HalfProfile", "half_profiles", "Profile", "profile"]
+__all__ = ["HalfProfile", "half_profiles", "Profile", "profile", "closing_gap"]
 
 _NOT_TYPICAL = 0.05       # half-sections further apart than this share of the radius: no one profile
+_MAX_CLOSING = 0.1        # an open scan's sections are closed across gaps up to this share of its size
 
 
 @dataclass(frozen=True, eq=False)
@@ -228,6 +229,9 @@ class Profile:
     rim_tops, max_radii : ndarray
         Per half: the rim plane's height and the widest radius (smoothed outlines;
         `slicelab.artefacts.outlines.Outline`), for `ovality`, `rim_drop` and `appendage_angle`.
+    closed_gap : float
+        For an open scan whose sections all stayed open (the rim top not captured): the gap
+        (mm) they were closed across (`closing_gap`); 0 when `max_gap` sufficed.
 
     See Also
     --------
@@ -245,6 +249,7 @@ class Profile:
     mesh: Mesh | None = field(default=None, repr=False)
     rim_tops: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
     max_radii: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
+    closed_gap: float = 0.0
 
     @property
     def is_revolution(self) -> bool:
@@ -416,6 +421,9 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
         Run `slicelab.artefacts.align` first.
     max_gap : float, default 1.0
         As in `slicelab.section`; planes whose section stays open are left out.
+        When every plane's does (an open scan: the rim top not captured), the
+        sections are closed across the gap most of them need (`closing_gap`),
+        if it is under a tenth of the vessel's size, and `Profile.closed_gap` says so.
     name : str
         Label for the drawing.
 
@@ -426,7 +434,7 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
     Raises
     ------
     ValueError
-        No plane gave a closed section.
+        No plane gave a closed section (the message names the `max_gap` that would close them).
 
     See Also
     --------
@@ -452,11 +460,27 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
     if alignment is not None and alignment.sherd is not None:
         return _sherd_profile(mesh, alignment, planes, max_gap, name)
     angles = [math.pi * k / planes for k in range(planes)]
+    cands = _candidates(mesh, angles)
     halves: list[HalfProfile] = []
-    for a, cand in zip(angles, _candidates(mesh, angles)):  # over planes
+    for a, cand in zip(angles, cands):  # over planes
         halves += half_profiles(mesh, a, max_gap=max_gap, candidates=cand)
+    closed_gap = 0.0
     if not halves:
-        raise ValueError("no plane through the axis gave a closed section (is the mesh aligned and closed?)")
+        # An open scan (the rim top not captured): every section is open. Close them across the
+        # gap most planes need, if it is small beside the vessel; the report says so (`closed_gap`).
+        gap = closing_gap(mesh, angles, cands)
+        z = mesh.triangles[..., 2]
+        size = max(float(z.max() - z.min()), float(np.abs(mesh.triangles[..., :2]).max()))
+        if not math.isfinite(gap) or gap > _MAX_CLOSING * size:
+            hint = f"; --max-gap {math.ceil(gap * 10) / 10:g} would close them" if math.isfinite(gap) else ""
+            raise ValueError(f"no plane through the axis gave a closed section (is the mesh aligned and closed?)"
+                             f"{hint}")
+        closed_gap = math.ceil(gap * 10) / 10
+        for a, cand in zip(angles, cands):  # over planes
+            halves += half_profiles(mesh, a, max_gap=closed_gap, candidates=cand)
+        if not halves:
+            raise ValueError(f"no plane through the axis gave a closed section, even across gaps of "
+                             f"{closed_gap:g} mm")
     halves.sort(key=lambda h: h.angle)
     z = mesh.triangles[..., 2]
     height = float(z.max() - z.min())
@@ -465,7 +489,37 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
     outs, noise = half_outlines(halves, height, alignment.noise if alignment is not None else None)
     m = measure_halves(halves, height, float(spread.max()), residual, noise, outs)
     return Profile(tuple(halves), rep, spread, m, alignment, planes, name, mesh,
-                   np.array([o.z_top for o in outs]), np.array([o.max_r for o in outs]))
+                   np.array([o.z_top for o in outs]), np.array([o.max_r for o in outs]), closed_gap)
+
+
+def closing_gap(mesh: Mesh, angles, candidates=None) -> float:
+    """The `max_gap` (mm) that closes the sections of an open scan through the axis at `angles`.
+
+    Per plane, each open chain's end is paired with the nearest chain start
+    (the way `slicelab.section` joins them, nearest first); the plane needs the
+    largest of those distances. The answer is the median over the planes
+    whose sections are open (a hole in the wall opens a few planes only, an
+    uncaptured rim all of them); infinite when none is open.
+
+    Examples
+    --------
+    >>> from slicelab.samples import scan
+    >>> mesh, _ = scan("beaker", spacing=2.0, pose=False, open_rim=True)
+    >>> round(closing_gap(mesh, [0.0, 1.0]), 1)  # the rim top, 3 mm wide, was not captured
+    3.0
+    """
+    from scipy.spatial import cKDTree
+    need = []
+    for k, a in enumerate(angles):  # a few planes
+        c, s = math.cos(a), math.sin(a)
+        sub = mesh if candidates is None else Mesh(mesh.triangles[candidates[k]])
+        sec = section(sub, (0.0, 0.0, 0.0), (s, -c, 0.0), max_gap=0.0)
+        if not sec.open_chains:
+            continue
+        ends = np.array([ch[-1] for ch in sec.open_chains])
+        starts = np.array([ch[0] for ch in sec.open_chains])
+        need.append(float(cKDTree(starts).query(ends)[0].max()))
+    return float(np.median(need)) if need else math.inf
 
 
 def _sherd_profile(mesh: Mesh, alignment, planes: int, max_gap: float, name: str) -> Profile:

@@ -158,7 +158,7 @@ def sherd_mesh(form: str = "pot", kind: str = "rim", span: float = 60.0, *, spac
 
 def scan(form: str = "pot", *, spacing: float = 0.3, noise: float = 0.0, seed: int = 0, pose: bool = True,
          holes: int = 0, hole_radius: float = 6.0, oval: float = 0.0, sherd: str | None = None,
-         span: float = 60.0):
+         span: float = 60.0, open_rim: bool = False):
     """A simulated scan of a vessel or a sherd, and the truth to score its measurements against.
 
     Parameters
@@ -183,6 +183,9 @@ def scan(form: str = "pot", *, spacing: float = 0.3, noise: float = 0.0, seed: i
         A sherd of the vessel (`sherd_mesh`) instead of the whole.
     span : float
         The sherd's angle about the axis (degrees).
+    open_rim : bool
+        The rim's top land left unscanned (the scan is open there, as when a
+        vessel was scanned standing and its rim top missed).
 
     Returns
     -------
@@ -192,7 +195,7 @@ def scan(form: str = "pot", *, spacing: float = 0.3, noise: float = 0.0, seed: i
         ``motion`` (4 x 4, vessel to scan), ``axis`` (unit, base to rim, in scan
         coordinates), ``origin`` (the base centre, in scan coordinates),
         ``span`` (degrees), ``rim_fraction`` (share of the rim circle kept),
-        ``ovality`` (%), and the dimensions of `vessel_truth` (``height``,
+        ``ovality`` (%), ``open_rim``, and the dimensions of `vessel_truth` (``height``,
         ``rim_diameter``, ``max_diameter``, ``base_diameter``, ``wall``,
         ``capacity``; None where a sherd does not contain them);
         for the jug ``handle_direction`` (unit, in scan coordinates).
@@ -229,6 +232,10 @@ def scan(form: str = "pot", *, spacing: float = 0.3, noise: float = 0.0, seed: i
         if sherd == "base":
             truth["max_diameter"] = None
     v = np.array(v, dtype=np.float64)
+    if open_rim:
+        top = float(v[:, 2].max())
+        f = f[~(v[f, 2] >= top - 1e-9).all(axis=1)]
+    truth["open_rim"] = bool(open_rim)
     if oval:
         v[:, 0] *= 1 + oval
         v[:, 1] *= 1 - oval

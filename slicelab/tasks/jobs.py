@@ -248,7 +248,7 @@ def _profile_report(pr, inp, p):
                "origin": None if a is None else a.origin.tolist(),
                "shape_residual": None if a is None else a.shape_residual,
                "span": None if a is None else a.span, "ovality": pr.ovality, "rim_drop": pr.rim_drop,
-               "appendage_angle": pr.appendage_angle,
+               "appendage_angle": pr.appendage_angle, "closed_gap": pr.closed_gap,
                "sherd": None if pr.sherd is None else pr.sherd.to_dict()}
     reasons = []
     sherd = pr.sherd
@@ -270,6 +270,11 @@ def _profile_report(pr, inp, p):
         missing = 2 * pr.planes - len(pr.halves)
         reasons.append(reason("hole_in_wall", f"{missing // 2} of {pr.planes} planes through the axis cross a "
                                               f"hole in the scan and were left out"))
+    if pr.closed_gap > 0:
+        reasons.append(reason("open_rim", f"the scan is open at the rim (its top was not captured): every "
+                                          f"section through the axis was open and was closed across gaps up "
+                                          f"to {pr.closed_gap:g} mm, as --max-gap {pr.closed_gap:g} would; "
+                                          f"the rim top is the chord across the gap"))
     drop = pr.rim_drop
     if math.isfinite(drop) and drop > max(1.0, 5 * m.noise):
         reasons.append(reason("open_rim", f"the rim is broken or uneven: its top drops {drop:.1f} mm under the "
