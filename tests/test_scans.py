@@ -178,7 +178,8 @@ def test_the_profile_report_names_each_cause(tmp_path):
     opened, truth = samples.scan("beaker", spacing=1.5, noise=0.05, seed=15, open_rim=True)
     r, codes = _report(opened, tmp_path, "opened")
     assert "open_rim" in codes and f"--max-gap {r.results['closed_gap']:g}" in codes["open_rim"]
-    assert 3.0 <= r.results["closed_gap"] <= 4.0  # the rim land is 3 mm wide, and noisy
+    assert "hole_in_wall" not in codes
+    assert 3.0 <= r.results["closed_gap"] <= 4.5  # the rim land is 3 mm wide, and noisy
     assert rel(r.results["capacity"], truth["capacity"]) <= 0.02
     assert rel(r.results["height"], truth["height"]) <= 0.01
     sherd, _ = samples.scan("pot", spacing=1.5, seed=14, sherd="body", span=50.0)

@@ -25,6 +25,7 @@ __all__ = ["HalfProfile", "half_profiles", "Profile", "profile", "closing_gap"]
 
 _NOT_TYPICAL = 0.05       # half-sections further apart than this share of the radius: no one profile
 _MAX_CLOSING = 0.1        # an open scan's sections are closed across gaps up to this share of its size
+_CLOSING_MARGIN = 1.25    # times the median gap the planes need: the noise widens some of them
 
 
 @dataclass(frozen=True, eq=False)
@@ -422,8 +423,9 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
     max_gap : float, default 1.0
         As in `slicelab.section`; planes whose section stays open are left out.
         When every plane's does (an open scan: the rim top not captured), the
-        sections are closed across the gap most of them need (`closing_gap`),
-        if it is under a tenth of the vessel's size, and `Profile.closed_gap` says so.
+        sections are closed across 1.25 times the gap most of them need
+        (`closing_gap`), if that is under a tenth of the vessel's size, and
+        `Profile.closed_gap` says so.
     name : str
         Label for the drawing.
 
@@ -475,7 +477,7 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
             hint = f"; --max-gap {math.ceil(gap * 10) / 10:g} would close them" if math.isfinite(gap) else ""
             raise ValueError(f"no plane through the axis gave a closed section (is the mesh aligned and closed?)"
                              f"{hint}")
-        closed_gap = math.ceil(gap * 10) / 10
+        closed_gap = math.ceil(_CLOSING_MARGIN * gap * 10) / 10
         for a, cand in zip(angles, cands):  # over planes
             halves += half_profiles(mesh, a, max_gap=closed_gap, candidates=cand)
         if not halves:
