@@ -204,3 +204,16 @@ def test_bench_script_runs_one_case(tmp_path):
                          text=True, cwd=root, timeout=120)
     assert out.returncode == 0, out.stderr
     assert "beaker" in out.stdout and "PASS" in out.stdout
+
+
+def test_the_cli_says_what_a_sherd_is_and_warns_in_sentences(tmp_path, capsys):
+    import slicelab
+    from slicelab.cli import main
+    mesh, truth = samples.scan("beaker", spacing=1.0, noise=0.1, seed=16, sherd="rim", span=90.0)
+    slicelab.save(mesh, tmp_path / "sherd.stl")
+    assert main(["profile", str(tmp_path / "sherd.stl"), "-o", str(tmp_path / "sherd.svg"), "--planes", "3"]) == 0
+    out, err = capsys.readouterr()
+    line = next(x for x in out.splitlines() if x.startswith("sherd: rim, "))
+    assert line.split(" % of the rim")[0].endswith(f"{100 * truth['rim_fraction']:.0f}")
+    assert "slicelab: warning: sherd: rim" in err and "no capacity" in err
+    assert "nan" not in out.lower() and "nan" not in (tmp_path / "sherd.svg").read_text().lower()

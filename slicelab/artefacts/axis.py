@@ -32,7 +32,7 @@ from ..mesh.core import Mesh
 from .axis_fit import circle_pass, rotation_to_z, surface_moments
 from .axis_lines import angular_span, fit_axis_lines, line_complex_axis, smoothed_normals
 from .axis_search import search_axis
-from .sherds import SherdReport, sherd_stance
+from .sherds import TRUSTED_AXIS, SherdReport, sherd_stance
 
 __all__ = ["Alignment", "align"]
 
@@ -41,6 +41,8 @@ _NOT_REVOLUTION = 0.03    # relative circle residual (noise averaged out) above 
 _WHOLE_SPAN = 330.0       # degrees about the axis a whole vessel's surface covers at least
 _MIN_SPAN = 10.0          # degrees: an axis that sees the surface under less is not its axis
 _POOR_FIT = 0.01          # trimmed mean square sine above which the normal lines did not find an axis
+_RIVAL = 1.5              # another axis fitting within this factor of the score leaves a body sherd's axis open
+_CLEAN_FIT = 1e-6         # trimmed mean square sine over which a clean (unsmoothed) mesh's normals miss the axis
 
 
 @dataclass(frozen=True, eq=False)
@@ -197,6 +199,30 @@ def _up_sign(t: np.ndarray, area: np.ndarray, point: np.ndarray, direction: np.n
     return (1 if com_h <= mid else -1), "centre of mass"
 
 
+def _halves_disagree(sample, point: np.ndarray, direction: np.ndarray) -> float:
+    """Degrees to the farthest axis that one half of a sherd (split by angle about the axis), searched
+    on its own from scratch (`search_axis`), fits about as well as (within 1.5 times the score of) the
+    sherd's axis; 0 when there is none. Without a rim or a base only the normal lines fix a body
+    sherd's axis, and on a gently curved piece they leave it open."""
+    R = rotation_to_z(direction)
+    q = np.einsum("ij,kj->ik", sample.points - point, R)
+    phi = np.arctan2(q[:, 1], q[:, 0])
+    mid = math.atan2(float(np.sin(phi).mean()), float(np.cos(phi).mean()))
+    side = ((phi - mid + math.pi) % (2 * math.pi) - math.pi) < 0
+    worst = 0.0
+    for part in (side, ~side):
+        if part.sum() < 50:
+            return math.inf
+        sub = replace(sample, points=sample.points[part], normals=sample.normals[part], weights=sample.weights[part])
+        here = fit_axis_lines(sub, point, direction)
+        p, d, _ = search_axis(sub, directions=600, points=2000)
+        own = fit_axis_lines(sub, p, d)
+        off = math.degrees(math.acos(min(1.0, abs(float(own.direction @ direction)))))
+        if own.score <= _RIVAL * here.score:
+            worst = max(worst, off)
+    return worst
+
+
 def align(mesh: Mesh) -> Alignment:
     """Move a scanned vessel so its axis of revolution is +z through the origin, rim up, base at z = 0.
 
@@ -275,9 +301,9 @@ def align(mesh: Mesh) -> Alignment:
         if moved is not None and moved[2][2] < circles[2][2]:
             fit = replace(fit, point=moved[0], direction=moved[1] * np.sign(float(moved[1] @ fit.direction)))
             circles = moved
+    tries = []
     if not whole:
         # A sherd (or a poor fit): try every direction; the line complex settles on a line through a sherd.
-        tries = []
         for p, d, _ in search_axis(sample, candidates=True)[:3]:  # the three best valleys
             f = fit_axis_lines(sample, p, d)
             tries.append((f, angular_span(sample.points, sample.weights, f.point, f.direction)[0]))
@@ -292,6 +318,13 @@ def align(mesh: Mesh) -> Alignment:
         # A sherd: the rim (or the base) sets the stance and refines the axis.
         point, direction, sherd = sherd_stance(mesh, sample, point, direction, sample.noise)
         cue = sherd.up_from
+        span = angular_span(sample.points, sample.weights, point, direction)[0]
+        if sherd.kind == "body" and sherd.axis_trusted:
+            # A clean mesh's normals meet the true axis to rounding; else its halves must agree.
+            off = math.inf if sample.rounds == 0 and fit.score > _CLEAN_FIT else \
+                _halves_disagree(sample, point, direction)
+            if off > TRUSTED_AXIS:
+                sherd = replace(sherd, axis_trusted=False, axis_spread=off)
     if circles is None or sherd is not None:
         circles = circle_pass(t, point, direction, shape=True, min_sectors=12 if span >= _WHOLE_SPAN else 2)
     if circles is None:

@@ -21,6 +21,7 @@ from .axis_lines import SurfaceSample
 __all__ = ["search_axis"]
 
 _SEARCH_SEEDS = 5          # valleys of the direction search refined
+_ALL_ROUND = 33            # sectors of 10 degrees (of 36) about a line that sees the surface all round
 
 
 def _hemisphere(n: int) -> np.ndarray:
@@ -42,7 +43,10 @@ def _score_directions(p: np.ndarray, n: np.ndarray, dirs: np.ndarray, keep: floa
     px, py = u @ p.T, v @ p.T            # (directions, points)
     nx, ny = u @ n.T, v @ n.T
     g = nx * py - ny * px                # F = g + ny cx - nx cy
-    w = np.ones_like(g)
+    # First as the projected normal lines meeting (distances to them, not their moments: a break face,
+    # its normal square to the meridian plane, must not outweigh a shallow wall whose normals are
+    # nearly parallel to the axis), then reweighted towards the sines, Tukey on them.
+    w = 1.0 / (nx * nx + ny * ny + 0.05 ** 2)
     for _ in range(4):  # algebraic, then reweighted towards the sines, Tukey on them
         a11, a12, a22 = (w * ny * ny).sum(1), -(w * nx * ny).sum(1), (w * nx * nx).sum(1)
         b1, b2 = -(w * g * ny).sum(1), (w * g * nx).sum(1)
@@ -59,7 +63,12 @@ def _score_directions(p: np.ndarray, n: np.ndarray, dirs: np.ndarray, keep: floa
     m = max(1, int(keep * e2.shape[1]))
     score = np.partition(e2, m - 1, axis=1)[:, :m].mean(axis=1)
     centre = cx[:, None] * u + cy[:, None] * v
-    return score, centre
+    # Sectors of 10 degrees about the centre that hold points: a line through the surface sees it
+    # all round (along the mean normal of a flattish sherd every normal lies in a meridian plane).
+    k = (np.floor(np.arctan2(py - cy[:, None], px - cx[:, None]) * (18 / np.pi)).astype(np.int64) + 18) % 36
+    seen = np.zeros((len(dirs), 36), bool)
+    seen[np.arange(len(dirs))[:, None], k] = True
+    return score, centre, seen.sum(axis=1) >= _ALL_ROUND
 
 
 def search_axis(sample: SurfaceSample, *, directions: int = 1500, points: int = 4000, keep: float = 0.7,
@@ -73,7 +82,9 @@ def search_axis(sample: SurfaceSample, *, directions: int = 1500, points: int = 
     squared sines of the normals' angles to their meridian planes about
     that point. Needs no start and no full turn: it finds a sherd's axis,
     where the line complex (`line_complex_axis`) settles on a line through
-    the sherd.
+    the sherd. Lines that see the surface all round (33 or more of 36
+    sectors of 10 degrees) rank after those that do not: along a flattish
+    sherd's mean normal every normal lies in a meridian plane too.
 
     Returns
     -------
@@ -83,7 +94,7 @@ def search_axis(sample: SurfaceSample, *, directions: int = 1500, points: int = 
         The trimmed mean square sine at the best direction.
 
     With ``candidates=True``, a list of such (point, direction, score), one
-    per valley searched, best first.
+    per valley searched, best first (those seeing the surface all round last).
 
     See Also
     --------
@@ -107,14 +118,16 @@ def search_axis(sample: SurfaceSample, *, directions: int = 1500, points: int = 
 
     def scored(dirs):
         parts = [_score_directions(p, n, dirs[k:k + 100], keep) for k in range(0, len(dirs), 100)]
-        return np.concatenate([a for a, _ in parts]), np.concatenate([c for _, c in parts])
+        return tuple(np.concatenate([x[i] for x in parts]) for i in range(3))
 
     dirs = _hemisphere(directions)
-    scores, centres = scored(dirs)
+    scores, centres, round_ = scored(dirs)
     # The best few coarse directions (each at least 6 degrees from a better one), each refined by
     # 300 directions within 5 degrees of it: a sherd's valley can be narrower than the coarse grid.
+    # Lines that see the surface all round come last: for a whole vessel that is its axis, for a
+    # sherd a line through it.
     seeds = []
-    for i in np.argsort(scores):  # best first; a handful kept
+    for i in np.lexsort((scores, round_)):  # best first; a handful kept
         if all(abs(float(dirs[i] @ dirs[j])) < math.cos(math.radians(6)) for j in seeds):
             seeds.append(i)
         if len(seeds) == _SEARCH_SEEDS:
@@ -124,11 +137,13 @@ def search_axis(sample: SurfaceSample, *, directions: int = 1500, points: int = 
     found = []
     for i in seeds:  # a handful of valleys
         fine = local @ rotation_to_z(dirs[i])
-        sc, ce = scored(fine)
+        sc, ce, ro = scored(fine)
+        sc = np.where(ro == round_[i], sc, np.inf)  # the valley's own kind
         j = int(np.argmin(sc))
-        found.append((float(sc[j]), fine[j], ce[j]) if sc[j] < scores[i] else (float(scores[i]), dirs[i], centres[i]))
-    found.sort(key=lambda f: f[0])
+        found.append((bool(round_[i]), float(sc[j]), fine[j], ce[j]) if sc[j] < scores[i]
+                     else (bool(round_[i]), float(scores[i]), dirs[i], centres[i]))
+    found.sort(key=lambda f: f[:2])
     if candidates:
-        return [(origin + c, d, sc) for sc, d, c in found]
-    best_score, best_dir, best_centre = found[0]
+        return [(origin + c, d, sc) for _, sc, d, c in found]
+    _, best_score, best_dir, best_centre = found[0]
     return origin + best_centre, best_dir, best_score

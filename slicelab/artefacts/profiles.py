@@ -422,10 +422,10 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
         Run `slicelab.artefacts.align` first.
     max_gap : float, default 1.0
         As in `slicelab.section`; planes whose section stays open are left out.
-        When every plane's does (an open scan: the rim top not captured), the
-        sections are closed across 1.25 times the gap most of them need
-        (`closing_gap`), if that is under a tenth of the vessel's size, and
-        `Profile.closed_gap` says so.
+        When every plane's does and the openings are at the top (an open scan:
+        the rim top not captured), the sections are closed across 1.25 times
+        the gap most of them need (`closing_gap`), if that is under a tenth of
+        the vessel's size, and `Profile.closed_gap` says so.
     name : str
         Label for the drawing.
 
@@ -470,11 +470,13 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
     if not halves:
         # An open scan (the rim top not captured): every section is open. Close them across the
         # gap most planes need, if it is small beside the vessel; the report says so (`closed_gap`).
-        gap = closing_gap(mesh, angles, cands)
+        gap, low = closing_gap(mesh, angles, cands, lowest=True)
         z = mesh.triangles[..., 2]
         size = max(float(z.max() - z.min()), float(np.abs(mesh.triangles[..., :2]).max()))
-        if not math.isfinite(gap) or gap > _MAX_CLOSING * size:
-            hint = f"; --max-gap {math.ceil(gap * 10) / 10:g} would close them" if math.isfinite(gap) else ""
+        at_rim = low >= float(z.max()) - max(2 * gap, 0.05 * float(z.max() - z.min()))
+        if not math.isfinite(gap) or gap > _MAX_CLOSING * size or not at_rim:
+            hint = f"; --max-gap {math.ceil(_CLOSING_MARGIN * gap * 10) / 10:g} would close them" \
+                if math.isfinite(gap) else ""
             raise ValueError(f"no plane through the axis gave a closed section (is the mesh aligned and closed?)"
                              f"{hint}")
         closed_gap = math.ceil(_CLOSING_MARGIN * gap * 10) / 10
@@ -494,14 +496,16 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
                    np.array([o.z_top for o in outs]), np.array([o.max_r for o in outs]), closed_gap)
 
 
-def closing_gap(mesh: Mesh, angles, candidates=None) -> float:
+def closing_gap(mesh: Mesh, angles, candidates=None, *, lowest: bool = False):
     """The `max_gap` (mm) that closes the sections of an open scan through the axis at `angles`.
 
     Per plane, each open chain's end is paired with the nearest chain start
     (the way `slicelab.section` joins them, nearest first); the plane needs the
     largest of those distances. The answer is the median over the planes
     whose sections are open (a hole in the wall opens a few planes only, an
-    uncaptured rim all of them); infinite when none is open.
+    uncaptured rim all of them); infinite when none is open. With
+    ``lowest=True``, also the height of the lowest open end (where the scan
+    is open: at the rim, or lower).
 
     Examples
     --------
@@ -511,7 +515,7 @@ def closing_gap(mesh: Mesh, angles, candidates=None) -> float:
     3.0
     """
     from scipy.spatial import cKDTree
-    need = []
+    need, low = [], math.inf
     for k, a in enumerate(angles):  # a few planes
         c, s = math.cos(a), math.sin(a)
         sub = mesh if candidates is None else Mesh(mesh.triangles[candidates[k]])
@@ -521,7 +525,9 @@ def closing_gap(mesh: Mesh, angles, candidates=None) -> float:
         ends = np.array([ch[-1] for ch in sec.open_chains])
         starts = np.array([ch[0] for ch in sec.open_chains])
         need.append(float(cKDTree(starts).query(ends)[0].max()))
-    return float(np.median(need)) if need else math.inf
+        low = min(low, float(ends[:, 1].min()), float(starts[:, 1].min()))
+    gap = float(np.median(need)) if need else math.inf
+    return (gap, low) if lowest else gap
 
 
 def _sherd_profile(mesh: Mesh, alignment, planes: int, max_gap: float, name: str) -> Profile:

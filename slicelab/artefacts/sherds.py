@@ -61,9 +61,13 @@ class SherdReport:
     axis_trusted : bool
         The sherd's two halves (split by angle) agree with the whole: for a rim or a base, their
         level faces' planes within `TRUSTED_AXIS` degrees and their axes' offsets within 3 % of the
-        radius; for a body sherd, their axes within half of `TRUSTED_AXIS`.
+        radius; for a body sherd, their axes within half of `TRUSTED_AXIS`, and then (checked by
+        `slicelab.artefacts.align`) each half, searched on its own, finds no axis more than
+        `TRUSTED_AXIS` away that fits it about as well, and a clean mesh's normals meet the axis
+        to rounding.
     axis_spread : float
-        The angle (degrees) between the halves' planes, or between their axes and the whole's.
+        The angle (degrees) between the halves' planes, or between their axes and the whole's,
+        or to a rival axis.
     up_from : str
         ``"rim"``, ``"base plane"`` or ``"unknown"`` (the stance is a guess).
     """
@@ -328,17 +332,22 @@ def sherd_stance(mesh: Mesh, sample: SurfaceSample, point, direction, noise: flo
             R_, loc = frame(p, d)
             v = np.unique(loc.triangles.reshape(-1, 3), axis=0)
             r_ = np.hypot(v[:, 0], v[:, 1])
-            if kind == "rim":
-                sel = (v[:, 2] >= v[:, 2].max() - 2 * tol) & (np.abs(r_ - rim_r) <= 1.5 * t_wall)
+            if kind == "rim":  # the top band, about its own median radius (this frame's)
+                band = v[:, 2] >= v[:, 2].max() - 2 * tol
+                sel = band & (np.abs(r_ - float(np.median(r_[band]))) <= 1.5 * t_wall)
             else:
                 sel = v[:, 2] <= v[:, 2].min() + 2 * tol
             return v[sel], R_
 
-        face, R = face_of(point, direction)
-        nrm = _plane_normal(face)
-        if nrm is not None and nrm[2] > math.cos(math.radians(10)):
+        for _ in range(3):  # a tilted start sees part of the face; each round sees more of it
+            face, R = face_of(point, direction)
+            nrm = _plane_normal(face)
+            if nrm is None or nrm[2] <= math.cos(math.radians(10)):
+                break
             direction = R.T @ nrm
             point = fit_axis_lines(sample, point, direction, tilt=False).point
+            if nrm[2] >= math.cos(math.radians(0.01)):
+                break
         ref_r = rim_r
     # Trust: the halves of the sherd (split by angle) fitted on their own must agree with the whole:
     # a rim's or a base's face halves on its plane, the normal lines' axes on their offsets (and on
