@@ -41,6 +41,7 @@ _NOT_REVOLUTION = 0.03    # relative circle residual (noise averaged out) above 
 _WHOLE_SPAN = 330.0       # degrees about the axis a whole vessel's surface covers at least
 _MIN_SPAN = 10.0          # degrees: an axis that sees the surface under less is not its axis
 _POOR_FIT = 0.01          # trimmed mean square sine above which the normal lines did not find an axis
+_SHERD_POINTS = 200       # vertices a sherd has at least: the span of a few CAD corners says nothing
 _RIVAL = 1.5              # another axis fitting within this factor of the score leaves a body sherd's axis open
 _CLEAN_FIT = 1e-6         # trimmed mean square sine over which a clean (unsmoothed) mesh's normals miss the axis
 
@@ -114,8 +115,9 @@ class Alignment:
 
     @property
     def is_fragment(self) -> bool:
-        """True when the surface leaves a gap of more than 30 degrees about the axis (a sherd)."""
-        return bool(self.span < _WHOLE_SPAN)
+        """True for a sherd: the surface leaves a gap of more than 30 degrees about the axis (and
+        has 200 vertices or more: about the few corners of a CAD solid, gaps say nothing)."""
+        return self.sherd is not None
 
     @property
     def shape_relative(self) -> float:
@@ -236,6 +238,12 @@ def align(mesh: Mesh) -> Alignment:
     crossing the axis), else the open boundary (the rim), else the centre of
     mass decides which way is up.
 
+    A surface spanning less than 330 degrees about its axis (with 200
+    vertices or more) is a sherd (`Alignment.sherd`): its axis is searched over every direction
+    (`search_axis`), its stance set by its rim or its base (`sherd_stance`),
+    and a body sherd's axis is trusted only when each half of it, searched
+    alone, finds no other axis that fits about as well.
+
     Parameters
     ----------
     mesh : Mesh
@@ -314,7 +322,7 @@ def align(mesh: Mesh) -> Alignment:
             method, fit, span, circles = "search", found, found_span, None
     point, direction = fit.point, fit.direction / np.linalg.norm(fit.direction)
     sherd = None
-    if span < _WHOLE_SPAN:
+    if span < _WHOLE_SPAN and len(sample.points) >= _SHERD_POINTS:
         # A sherd: the rim (or the base) sets the stance and refines the axis.
         point, direction, sherd = sherd_stance(mesh, sample, point, direction, sample.noise)
         cue = sherd.up_from

@@ -48,6 +48,7 @@ _REACH_PER_NOISE = 10.0    # smoothing reach, in noise standard deviations
 _LAPLACE_GAIN = 1.36       # noise sigma -> robust spread of the second difference on a scan's mesh
 _MAX_ROUNDS = 24           # averaging rounds at most
 _SAMPLE = 150_000          # vertices kept for fitting
+_SCAN_VERTICES = 200       # a mesh with fewer vertices is no scan: its corners are no noise
 
 
 def tukey_weights(e: np.ndarray, w: np.ndarray, floor: float) -> np.ndarray:
@@ -125,7 +126,7 @@ def _roughness(v: np.ndarray, area_vec: np.ndarray, A, deg: np.ndarray) -> float
     starts = A.indptr[:-1][np.diff(A.indptr) > 0]
     even = np.zeros(len(v), bool)
     even[np.diff(A.indptr) > 0] = (np.maximum.reduceat(edge, starts) <= 4 * np.minimum.reduceat(edge, starts))
-    if even.sum() < 0.5 * len(v):  # not a scan's mesh: no noise to speak of
+    if even.sum() < 0.5 * len(v) or len(v) < _SCAN_VERTICES:  # not a scan's mesh: no noise to speak of
         return 0.0
     d = d[even]
     return float(1.4826 * np.median(np.abs(d - np.median(d))) / _LAPLACE_GAIN)
@@ -153,8 +154,8 @@ def surface_noise(triangles: np.ndarray) -> float:
     by 1.36 (the gain of these two differences on a scan's mesh, measured on
     `slicelab.samples.scan`), is the noise. Only vertices whose edges are
     within a factor of 4 in length count, and a mesh where they are fewer
-    than half has none: on an uneven (CAD-like) mesh the corners would pass
-    for noise.
+    than half, or with fewer than 200 vertices, has none: on an uneven
+    (CAD-like) or tiny mesh the corners would pass for noise.
 
     Examples
     --------

@@ -274,7 +274,11 @@ class Profile:
         r, t = self.max_radii, np.array([h.angle for h in self.halves])
         if self.sherd is not None or len(r) < 4:
             return float("nan")
-        keep = self.spread <= 3 * max(float(np.median(self.spread)), 1e-9)  # handles left out
+        # Halves through a handle left out: those straying over three times the median spread (and
+        # over 1 % of the radius: an exact mesh's halves differ by rounding).
+        keep = self.spread <= max(3 * float(np.median(self.spread)), 0.01 * float(np.median(r)))
+        if keep.sum() < 4:
+            keep = np.ones(len(r), bool)
         A = np.column_stack([np.ones(len(t)), np.cos(2 * t), np.sin(2 * t)])[keep]
         sol = np.linalg.lstsq(A, r[keep], rcond=None)[0]
         return float(200 * math.hypot(sol[1], sol[2]) / sol[0]) if sol[0] > 0 else float("nan")
@@ -422,8 +426,8 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
         Run `slicelab.artefacts.align` first.
     max_gap : float, default 1.0
         As in `slicelab.section`; planes whose section stays open are left out.
-        When every plane's does and the openings are at the top (an open scan:
-        the rim top not captured), the sections are closed across 1.25 times
+        When every plane's does and the openings are at the top, the base
+        down (an open scan: the rim top not captured), the sections are closed across 1.25 times
         the gap most of them need (`closing_gap`), if that is under a tenth of
         the vessel's size, and `Profile.closed_gap` says so.
     name : str
@@ -473,7 +477,9 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
         gap, low = closing_gap(mesh, angles, cands, lowest=True)
         z = mesh.triangles[..., 2]
         size = max(float(z.max() - z.min()), float(np.abs(mesh.triangles[..., :2]).max()))
-        at_rim = low >= float(z.max()) - max(2 * gap, 0.05 * float(z.max() - z.min()))
+        # The openings must be at the rim, and the rim known to be up by the base, not by the openings.
+        at_rim = low >= float(z.max()) - max(2 * gap, 0.05 * float(z.max() - z.min())) and \
+            (alignment is None or alignment.up_from == "base")
         if not math.isfinite(gap) or gap > _MAX_CLOSING * size or not at_rim:
             hint = f"; --max-gap {math.ceil(_CLOSING_MARGIN * gap * 10) / 10:g} would close them" \
                 if math.isfinite(gap) else ""
