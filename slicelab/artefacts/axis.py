@@ -24,17 +24,26 @@ References
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..mesh.core import Mesh
-from .axis_fit import normal_lines_axis, principal_axis, refine_axis, rotation_to_z, surface_moments
+from .axis_fit import circle_pass, rotation_to_z, surface_moments
+from .axis_lines import angular_span, fit_axis_lines, line_complex_axis, smoothed_normals
+from .axis_search import search_axis
+from .sherds import TRUSTED_AXIS, SherdReport, sherd_stance
 
 __all__ = ["Alignment", "align"]
 
-_FIT_FACETS = 300_000     # facets sampled for fitting the axis; enough for a 0.01 degree fit
-_NOT_REVOLUTION = 0.03    # relative circle residual above which a shape is not of revolution
+_FIT_FACETS = 300_000     # facets sampled for the circle fits; enough for a 0.01 degree fit
+_NOT_REVOLUTION = 0.03    # relative circle residual (noise averaged out) above which a shape is not of revolution
+_WHOLE_SPAN = 330.0       # degrees about the axis a whole vessel's surface covers at least
+_MIN_SPAN = 10.0          # degrees: an axis that sees the surface under less is not its axis
+_POOR_FIT = 0.01          # trimmed mean square sine above which the normal lines did not find an axis
+_SHERD_POINTS = 200       # vertices a sherd has at least: the span of a few CAD corners says nothing
+_RIVAL = 1.5              # another axis fitting within this factor of the score leaves a body sherd's axis open
+_CLEAN_FIT = 1e-6         # trimmed mean square sine over which a clean (unsmoothed) mesh's normals miss the axis
 
 
 @dataclass(frozen=True, eq=False)
@@ -53,14 +62,35 @@ class Alignment:
         Where the axis meets the base plane, in input coordinates.
     residual : float
         RMS distance (mm) of horizontal sections from circles about the axis:
-        how far the shape is from a surface of revolution.
+        the noise and the shape's departure from a surface of revolution.
     relative_residual : float
         `residual` divided by the mean radius of those circles.
     up_from : str
         The cue that decided which end is the rim: ``"base"``,
-        ``"open boundary"`` or ``"centre of mass"``.
+        ``"open boundary"``, ``"centre of mass"`` or, for a sherd, ``"rim"``,
+        ``"base plane"`` or ``"unknown"``.
     method : str
-        Which start won: ``"normals"`` (line complex) or ``"principal axes"``.
+        Which start won: ``"normals"`` (line complex), ``"principal axes"``
+        or ``"search"`` (every direction tried, for sherds).
+    shape_residual : float
+        The same deviations averaged over sectors of 10 degrees of each wall
+        (mm): the shape's own departure from circles, the noise averaged out.
+    noise : float
+        Standard deviation of the scan's vertex noise (mm), estimated from the
+        surface itself (`slicelab.artefacts.axis_lines.smoothed_normals`).
+    span : float
+        Angle (degrees) the surface covers about the axis: 360 for a whole
+        vessel, less for a sherd.
+    axis_error : float
+        Standard error (degrees) of the axis direction from the normal-line fit.
+    mean_radius : float
+        Mean radius (mm) of the fitted circles.
+    fit_score : float
+        Trimmed mean square sine of the normals' angles to their meridian planes
+        (`slicelab.artefacts.axis_lines.AxisFit.score`).
+    sherd : SherdReport or None
+        For a fragment (`is_fragment`): its kind, its rim or base and whether its axis can be
+        trusted (`slicelab.artefacts.sherds.sherd_stance`).
 
     See Also
     --------
@@ -75,21 +105,51 @@ class Alignment:
     relative_residual: float
     up_from: str
     method: str
+    shape_residual: float = float("nan")
+    noise: float = 0.0
+    span: float = 360.0
+    axis_error: float = 0.0
+    mean_radius: float = float("nan")
+    sherd: SherdReport | None = None
+    fit_score: float = 0.0
+
+    @property
+    def is_fragment(self) -> bool:
+        """True for a sherd: the surface leaves a gap of more than 30 degrees about the axis (and
+        has 200 vertices or more: about the few corners of a CAD solid, gaps say nothing)."""
+        return self.sherd is not None
+
+    @property
+    def shape_relative(self) -> float:
+        """`shape_residual` divided by the mean radius (NaN when no section fitted)."""
+        r = self.mean_radius
+        return float(self.shape_residual / r) if r and math.isfinite(r) and r > 0 else float("nan")
 
     @property
     def is_revolution(self) -> bool:
-        """True when horizontal sections stay within 3 % (RMS, of the radius) of circles about the axis."""
-        return bool(self.relative_residual <= _NOT_REVOLUTION)
+        """True when horizontal sections stay within 3 % of the radius of circles about the axis,
+        the noise averaged out (`shape_residual`); the noise itself does not count against it.
+        For a sherd, whose sections are arcs cut by breaks: when its normal lines meet the axis
+        (`fit_score`)."""
+        if self.sherd is not None:
+            return bool(self.fit_score <= _POOR_FIT)
+        rel = self.shape_relative
+        if not math.isfinite(rel):
+            rel = self.relative_residual
+        return bool(rel <= _NOT_REVOLUTION)
 
     def __repr__(self) -> str:
         return (f"Alignment(axis={np.round(self.axis, 6).tolist()}, residual={self.residual:.4g} mm "
-                f"({100 * self.relative_residual:.3g} %), up from {self.up_from}, {self.method})")
+                f"({100 * self.relative_residual:.3g} %), noise {self.noise:.3g} mm, span {self.span:.0f} deg, "
+                f"up from {self.up_from}, {self.method})")
 
     def to_dict(self) -> dict:
         """Plain numbers for JSON (the mesh left out)."""
         return {"matrix": self.matrix.tolist(), "axis": self.axis.tolist(), "origin": self.origin.tolist(),
                 "residual": self.residual, "relative_residual": self.relative_residual,
-                "up_from": self.up_from, "method": self.method}
+                "shape_residual": self.shape_residual, "noise": self.noise, "span": self.span,
+                "axis_error": self.axis_error, "up_from": self.up_from, "method": self.method,
+                "sherd": None if self.sherd is None else self.sherd.to_dict()}
 
 
 def _fit_sample(triangles: np.ndarray) -> np.ndarray:
@@ -141,6 +201,30 @@ def _up_sign(t: np.ndarray, area: np.ndarray, point: np.ndarray, direction: np.n
     return (1 if com_h <= mid else -1), "centre of mass"
 
 
+def _halves_disagree(sample, point: np.ndarray, direction: np.ndarray) -> float:
+    """Degrees to the farthest axis that one half of a sherd (split by angle about the axis), searched
+    on its own from scratch (`search_axis`), fits about as well as (within 1.5 times the score of) the
+    sherd's axis; 0 when there is none. Without a rim or a base only the normal lines fix a body
+    sherd's axis, and on a gently curved piece they leave it open."""
+    R = rotation_to_z(direction)
+    q = np.einsum("ij,kj->ik", sample.points - point, R)
+    phi = np.arctan2(q[:, 1], q[:, 0])
+    mid = math.atan2(float(np.sin(phi).mean()), float(np.cos(phi).mean()))
+    side = ((phi - mid + math.pi) % (2 * math.pi) - math.pi) < 0
+    worst = 0.0
+    for part in (side, ~side):
+        if part.sum() < 50:
+            return math.inf
+        sub = replace(sample, points=sample.points[part], normals=sample.normals[part], weights=sample.weights[part])
+        here = fit_axis_lines(sub, point, direction)
+        p, d, _ = search_axis(sub, directions=600, points=2000)
+        own = fit_axis_lines(sub, p, d)
+        off = math.degrees(math.acos(min(1.0, abs(float(own.direction @ direction)))))
+        if own.score <= _RIVAL * here.score:
+            worst = max(worst, off)
+    return worst
+
+
 def align(mesh: Mesh) -> Alignment:
     """Move a scanned vessel so its axis of revolution is +z through the origin, rim up, base at z = 0.
 
@@ -153,6 +237,12 @@ def align(mesh: Mesh) -> Alignment:
     (`normal_lines_axis` and `refine_axis` cite the papers). The base (surface
     crossing the axis), else the open boundary (the rim), else the centre of
     mass decides which way is up.
+
+    A surface spanning less than 330 degrees about its axis (with 200
+    vertices or more) is a sherd (`Alignment.sherd`): its axis is searched over every direction
+    (`search_axis`), its stance set by its rim or its base (`sherd_stance`),
+    and a body sherd's axis is trusted only when each half of it, searched
+    alone, finds no other axis that fits about as well.
 
     Parameters
     ----------
@@ -190,32 +280,68 @@ def align(mesh: Mesh) -> Alignment:
     t = _fit_sample(mesh.triangles)
     area, centroid, cov = surface_moments(t)
     scale = math.sqrt(float(np.trace(cov))) or 1.0
-    # Starts in order of trust; the next is tried only while the best fit is poor (over 1 %), and
-    # never twice in one basin. The other two principal axes come last: a jug's handle can make
-    # the wrong eigenvalue stand apart.
+    sample = smoothed_normals(mesh.triangles)
+    # Starts: the line complex of the smoothed normals, then the principal axes (a jug's handle can
+    # make the wrong eigenvalue stand apart, so all three). Each is refined on the normal lines.
     _, eig = np.linalg.eigh(cov)
-    apart = principal_axis(cov)
-    starts = [("normals", normal_lines_axis(t, area, centroid, scale)), ("principal axes", (centroid, apart))]
-    starts += [("principal axes", (centroid, v)) for v in eig.T if abs(float(v @ apart)) < 0.5]
-    results, tried = [], []
-    for name, (p, d) in starts:  # at most four starts, a few passes each
-        fits = [r[3][2] for r in results if r[3] is not None]
-        if fits and min(fits) <= 0.01:
-            break
-        if any(abs(float(d @ e)) > math.cos(math.radians(3)) for e in tried):
+    starts = [("normals", line_complex_axis(sample.points, sample.normals, sample.weights, centroid, scale))]
+    starts += [("principal axes", (centroid, v)) for v in eig.T[::-1]]
+    fits = []
+    for name, (p, d) in starts:  # four starts, a dozen Gauss-Newton steps each
+        if any(abs(float(d @ f.direction)) > math.cos(math.radians(3)) for _, f, _ in fits):
             continue
-        tried.append(d)
-        results.append((name, *refine_axis(t, p, d)))
-        tried.append(results[-1][2])
-    fitted = [r for r in results if r[3] is not None]
-    if fitted:
-        method, point, direction, (rms, rel, _) = min(fitted, key=lambda r: r[3][2])
+        f = fit_axis_lines(sample, p, d)
+        fits.append((name, f, angular_span(sample.points, sample.weights, f.point, f.direction)[0]))
+    # An axis far off that sees the surface under a few degrees fits a gently curved sherd's
+    # nearly parallel normals as well as the true one: no such axis.
+    method, fit, span = min(fits, key=lambda c: (c[2] < _MIN_SPAN, c[1].score))
+    circles = None
+    whole = span >= _WHOLE_SPAN and fit.score <= _POOR_FIT
+    if whole:
+        circles = circle_pass(t, fit.point, fit.direction, shape=True, fixed=True)
+        # An axis through a sherd sees it all round too, but its sections are no circles.
+        whole = circles is not None and circles[2][3] <= _NOT_REVOLUTION * circles[2][4]
+    steep = float(sample.weights[np.abs(sample.normals @ fit.direction) < 0.5].sum() / sample.weights.sum())
+    if whole and steep >= 0.6:
+        # The line through the circles' centres, where it fits them better, on steep walls only (on a
+        # plate's shallow wall a tilt shows as a centre shift 20 times larger and it overshoots).
+        moved = circle_pass(t, fit.point, fit.direction, shape=True)
+        if moved is not None and moved[2][2] < circles[2][2]:
+            fit = replace(fit, point=moved[0], direction=moved[1] * np.sign(float(moved[1] @ fit.direction)))
+            circles = moved
+    tries = []
+    if not whole:
+        # A sherd (or a poor fit): try every direction; the line complex settles on a line through a sherd.
+        for p, d, _ in search_axis(sample, candidates=True)[:3]:  # the three best valleys
+            f = fit_axis_lines(sample, p, d)
+            tries.append((f, angular_span(sample.points, sample.weights, f.point, f.direction)[0]))
+        found, found_span = min(tries, key=lambda c: (c[1] < _MIN_SPAN, c[0].score))
+        sherd_like = _MIN_SPAN <= found_span < _WHOLE_SPAN and found.score <= _POOR_FIT
+        if (sherd_like and span >= _WHOLE_SPAN) or \
+                (found_span < _MIN_SPAN, found.score) < (span < _MIN_SPAN, fit.score):
+            method, fit, span, circles = "search", found, found_span, None
+    point, direction = fit.point, fit.direction / np.linalg.norm(fit.direction)
+    sherd = None
+    if span < _WHOLE_SPAN and len(sample.points) >= _SHERD_POINTS:
+        # A sherd: the rim (or the base) sets the stance and refines the axis.
+        point, direction, sherd = sherd_stance(mesh, sample, point, direction, sample.noise)
+        cue = sherd.up_from
+        span = angular_span(sample.points, sample.weights, point, direction)[0]
+        if sherd.kind == "body" and sherd.axis_trusted:
+            # A clean mesh's normals meet the true axis to rounding; else its halves must agree.
+            off = math.inf if sample.rounds == 0 and fit.score > _CLEAN_FIT else \
+                _halves_disagree(sample, point, direction)
+            if off > TRUSTED_AXIS:
+                sherd = replace(sherd, axis_trusted=False, axis_spread=off)
+    if circles is None or sherd is not None:
+        circles = circle_pass(t, point, direction, shape=True, min_sectors=12 if span >= _WHOLE_SPAN else 2)
+    if circles is None:
+        rms = rel = shape = mean_r = math.nan
     else:
-        method, point, direction, _ = results[0]
-        rms = rel = math.inf
-    direction = direction / np.linalg.norm(direction)
-    sign, cue = _up_sign(t, area, point, direction, mesh)
-    direction = sign * direction
+        rms, rel, _, shape, mean_r = circles[2]
+    if sherd is None:
+        sign, cue = _up_sign(t, area, point, direction, mesh)
+        direction = sign * direction
     R = rotation_to_z(direction)
     # Rotated by einsum, not matmul: numpy hands (n, 3) x (3, 3) to a threaded BLAS, which on a
     # busy machine ran 10-20x slower (15 M points: 5-8 s against 0.5 s).
@@ -228,6 +354,6 @@ def align(mesh: Mesh) -> Alignment:
     matrix[:3, 3] = -R @ origin
     # A proper rotation keeps the winding and moves normals as it moves points.
     normals = np.einsum("...j,ij->...i", mesh.file_normals, R)
-    return Alignment(Mesh(moved, normals), matrix, direction, origin, float(rms), float(rel), cue, method)
-
-
+    return Alignment(Mesh(moved, normals), matrix, direction, origin, float(rms), float(rel), cue, method,
+                     float(shape), float(sample.noise), float(span), math.degrees(fit.sigma_angle), float(mean_r),
+                     sherd, float(fit.score))

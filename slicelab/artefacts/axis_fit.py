@@ -30,7 +30,7 @@ import numpy as np
 from ..mesh.core import Mesh
 from ..slicing.sections import slice_layers
 
-__all__ = ["rotation_to_z", "surface_moments", "principal_axis", "normal_lines_axis", "refine_axis"]
+__all__ = ["rotation_to_z", "surface_moments", "principal_axis", "normal_lines_axis", "circle_pass", "refine_axis"]
 
 
 def rotation_to_z(direction) -> np.ndarray:
@@ -222,10 +222,14 @@ def _tukey(e: np.ndarray, w: np.ndarray, floor: float) -> np.ndarray:
     return w * np.where(np.abs(u) < 1, (1 - u * u) ** 2, 0.0)
 
 
-def _rings(points: np.ndarray, direction: np.ndarray, weight: np.ndarray, centre: np.ndarray):
-    """Group one horizontal section's points into walls: by winding sense, then by radial gaps."""
+def _rings(points: np.ndarray, ccw: np.ndarray, weight: np.ndarray, centre: np.ndarray, min_sectors: int = 12):
+    """Group one horizontal section's points into walls: by winding sense, then by radial gaps.
+
+    `ccw` says, per point, whether its chain winds counter-clockwise about
+    the centre (outer walls) or clockwise (inner walls); a wall must cover
+    `min_sectors` sectors of 10 degrees (a handle's loop sits to one side).
+    """
     rel = points - centre
-    ccw = rel[:, 0] * direction[:, 1] - rel[:, 1] * direction[:, 0] > 0
     r = np.hypot(rel[:, 0], rel[:, 1])
     label = np.full(len(points), -1, dtype=np.int64)
     k = 0
@@ -239,31 +243,80 @@ def _rings(points: np.ndarray, direction: np.ndarray, weight: np.ndarray, centre
         for part in np.split(order, cut):  # a few walls per height, not points
             # A wall goes round the axis; a handle's or a lug's loop sits to one side of it.
             sector = np.unique((np.arctan2(rel[part, 1], rel[part, 0]) * (18 / np.pi)).astype(np.int64))
-            if len(part) >= 8 and weight[part].sum() > 0 and len(sector) >= 12:
+            if len(part) >= 8 and weight[part].sum() > 0 and len(sector) >= min_sectors:
                 label[part] = k
                 k += 1
     return label, k
 
 
-def _circle_pass(t: np.ndarray, point: np.ndarray, direction: np.ndarray, n_planes: int = 16):
-    """Fit concentric circles to horizontal sections in the frame of an axis guess.
+def _chain_segments(section):
+    """Segments of a section's loops and open chains (those at least 2 % as long as the longest),
+    and whether each one's chain winds counter-clockwise about the origin (the sense of a whole
+    chain, not of a noisy segment)."""
+    chains = [np.vstack([c, c[:1]]) for c in section.loops] + [c for c in section.open_chains if len(c) > 1]
+    if not chains:
+        return np.zeros((0, 2, 2)), np.zeros(0, bool)
+    # A plane grazing a noisy level surface leaves islands a facet or two across: not walls.
+    length = np.array([float(np.hypot(*np.diff(c, axis=0).T).sum()) for c in chains])
+    chains = [c for c, n in zip(chains, length) if n >= 0.02 * length.max()]
+    counts = np.array([len(c) - 1 for c in chains])
+    pts = np.concatenate(chains)
+    ends = np.cumsum([len(c) for c in chains])
+    start = np.ones(len(pts), bool)
+    start[ends - 1] = False  # the last point of a chain starts no segment
+    a = pts[start]
+    b = pts[np.flatnonzero(start) + 1]
+    chain = np.repeat(np.arange(len(chains)), counts)
+    sweep = np.bincount(chain, a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0], len(chains))
+    return np.stack([a, b], axis=1), (sweep > 0)[chain]
 
-    Returns the line through the fitted centres (point, direction, in input
-    coordinates) and (RMS radial residual about that line, the same relative
-    to the mean radius, median relative deviation), or None when no section
-    has a usable wall.
-    """
+
+def _clear_heights(local: np.ndarray, heights: np.ndarray, span: float) -> np.ndarray:
+    """Move each height off level surfaces: a plane grazing a noisy floor cuts it into a litter of
+    small loops. A height is clear when the facets facing within 45 degrees of up or down that it
+    crosses hold under 0.1 % of the area, or under three times what a typical height crosses (a
+    plate's wall is level-ish everywhere; its floor is the peak); an unclear one moves to the nearest
+    clear height within 1/32 of the span (steps of 1/400), else stays."""
+    cr = np.cross(local[:, 1] - local[:, 0], local[:, 2] - local[:, 0])
+    dbl = np.sqrt(np.einsum("ij,ij->i", cr, cr))
+    flat = np.abs(cr[:, 2]) > np.cos(np.radians(45)) * dbl
+    if not flat.any():
+        return heights
+    z = local[flat][..., 2]
+    zl, zh, w = z.min(axis=1), z.max(axis=1), dbl[flat]
+    ol, oh = np.argsort(zl), np.argsort(zh)
+    cl, ch = np.concatenate([[0.0], np.cumsum(w[ol])]), np.concatenate([[0.0], np.cumsum(w[oh])])
+    zl, zh = zl[ol], zh[oh]
+
+    def crossing(h):  # area of level facets with zl <= h <= zh
+        return cl[np.searchsorted(zl, h, side="right")] - ch[np.searchsorted(zh, h, side="left")]
+
+    grid = heights.min() + (heights.max() - heights.min()) * np.linspace(0.0, 1.0, 97)
+    limit = max(1e-3 * float(dbl.sum()), 3.0 * float(np.median(crossing(grid))))
+    offsets = span / 400 * np.concatenate([[0], np.repeat(np.arange(1, 13), 2) * np.tile([1, -1], 12)])
+    out = heights.copy()
+    for i, h in enumerate(heights):  # 16 planes, 25 tries each at most
+        ok = np.flatnonzero(crossing(h + offsets) <= limit)
+        if len(ok):
+            out[i] = h + offsets[ok[0]]
+    return out
+
+
+def _section_fits(t: np.ndarray, point: np.ndarray, direction: np.ndarray, n_planes: int, min_sectors: int):
+    """Concentric circles fitted to horizontal sections in the frame of an axis guess (see `circle_pass`):
+    the frame's rotation, its height range, and per usable plane (height, centre x, centre y, weight
+    kept, points, weights, wall labels, walls)."""
     R = rotation_to_z(direction)
     local = np.einsum("...j,ij->...i", t - point, R)
     z = local[..., 2]
     z0, z1 = float(z.min()), float(z.max())
     if not z1 > z0:
-        return None
-    heights = z0 + (z1 - z0) * np.linspace(0.1, 0.9, n_planes)
+        return R, z0, z1, []
+    heights = _clear_heights(local, z0 + (z1 - z0) * np.linspace(0.1, 0.9, n_planes), z1 - z0)
     layers = slice_layers(Mesh(local), heights=heights, max_gap=0.0)
     fits = []
     for h, s in zip(heights, layers):  # over planes
-        seg = s.segments
+        seg, ccw = _chain_segments(s)
         if len(seg) < 4:
             continue
         # Simpson's rule along each segment: its ends and middle, weights 1/6, 4/6, 1/6 of its length,
@@ -272,7 +325,7 @@ def _circle_pass(t: np.ndarray, point: np.ndarray, direction: np.ndarray, n_plan
         p = np.concatenate([seg[:, 0], seg.mean(axis=1), seg[:, 1]])
         length = np.hypot(d[:, 0], d[:, 1])
         w = length * np.repeat([1 / 6, 4 / 6, 1 / 6], len(seg))
-        label, k = _rings(p, d, w, np.zeros(2))
+        label, k = _rings(p, np.tile(ccw, 3), w, np.zeros(2), min_sectors)
         keep = label >= 0
         if k == 0 or keep.sum() < 3 + k:
             continue
@@ -289,12 +342,66 @@ def _circle_pass(t: np.ndarray, point: np.ndarray, direction: np.ndarray, n_plan
             radius = np.sqrt(np.maximum(sol[2:] + sol[0] ** 2 + sol[1] ** 2, 0.0))
             e = np.hypot(p[:, 0] - sol[0], p[:, 1] - sol[1]) - radius[label]
             wk = _tukey(e, w, 1e-9 * float(radius.mean()) + 1e-300)
-        fits.append((h, sol[0], sol[1], wk.sum(), p, w, label, k))
+        fits.append((h, sol[0], sol[1], wk.sum(), p, w, label, k, wk))
+    return R, z0, z1, fits
+
+
+def circle_pass(t: np.ndarray, point, direction, n_planes: int = 16, min_sectors: int = 12,
+                shape: bool = False, fixed: bool = False):
+    """Fit concentric circles to horizontal sections in the frame of an axis guess.
+
+    16 sections from 10 % to 90 % of the height; in each, the chains are
+    told apart by their winding about the axis (outer walls run
+    counter-clockwise, inner walls clockwise: the sense of a whole chain, so
+    noise cannot flip it), grouped into walls by radial gaps, and fitted with
+    one centre and a radius per wall.
+
+    Parameters
+    ----------
+    t : (n, 3, 3) ndarray
+    point, direction : (3,) array_like
+        The axis guess.
+    n_planes : int
+    min_sectors : int
+        Sectors of 10 degrees a wall must cover (12 for a whole vessel; a sherd's arcs cover fewer).
+    shape : bool
+        Also return the shape residual and the mean radius.
+    fixed : bool
+        Measure the residuals about the guess itself (returned as the line) instead of
+        about the line through the fitted centres.
+
+    Returns
+    -------
+    tuple or None
+        The line through the fitted centres (point, direction, in input
+        coordinates) and (RMS radial residual about that line, the same
+        relative to the mean radius, median relative deviation; with
+        `shape`, then the RMS of the radial deviations averaged over sectors
+        of 10 degrees of each wall, the shape's own departure from circles
+        with the noise averaged out and the points the biweight dropped (a
+        handle's root) left out, and the mean radius), or None when no
+        section has a usable wall.
+
+    See Also
+    --------
+    refine_axis : repeats it.
+
+    Examples
+    --------
+    >>> from slicelab.samples import pot
+    >>> p, d, (rms, rel, med, shape, r) = circle_pass(pot(40, 48).triangles, [0, 0, 0], [0, 0, 1], shape=True)
+    >>> bool(rms < 0.2), bool(shape < 0.01), round(r)
+    (True, True, 54)
+    """
+    point = np.asarray(point, dtype=np.float64)
+    direction = np.asarray(direction, dtype=np.float64)
+    R, z0, z1, fits = _section_fits(t, point, direction, n_planes, min_sectors)
     if len(fits) < 2:
         return None
     h, cx, cy, W = (np.array([f[i] for f in fits]) for i in range(4))
     Wk = W
-    for _ in range(3):  # reweighted over planes too: a height through a handle may still stray
+    x0 = kx = y0 = ky = 0.0
+    for _ in range(0 if fixed else 3):  # reweighted over planes too: a height through a handle may still stray
         G = np.stack([np.ones_like(h), h], axis=1) * np.sqrt(Wk)[:, None]
         (x0, kx), (y0, ky) = (np.linalg.lstsq(G, c * np.sqrt(Wk), rcond=None)[0] for c in (cx, cy))
         Wk = _tukey(np.hypot(cx - (x0 + kx * h), cy - (y0 + ky * h)), W, 1e-9 * (z1 - z0))
@@ -303,12 +410,21 @@ def _circle_pass(t: np.ndarray, point: np.ndarray, direction: np.ndarray, n_plan
             break
     # Residual of the revolution model: radii about the fitted line, one radius per wall.
     errors, weights, rsum = [], [], 0.0
-    for (hj, _, _, _, p, w, label, k) in fits:  # over planes
-        r = np.hypot(p[:, 0] - (x0 + kx * hj), p[:, 1] - (y0 + ky * hj))
-        radius = np.bincount(label, w * r, k) / np.bincount(label, w, k)
-        errors.append(r - radius[label])
+    shape_sq, shape_w = 0.0, 0.0
+    for (hj, _, _, _, p, w, label, k, wk) in fits:  # over planes
+        dx, dy = p[:, 0] - (x0 + kx * hj), p[:, 1] - (y0 + ky * hj)
+        r = np.hypot(dx, dy)
+        radius = np.bincount(label, wk * r, k) / np.maximum(np.bincount(label, wk, k), 1e-300)
+        err = r - radius[label]
+        errors.append(err)
         weights.append(w)
         rsum += float((w * radius[label]).sum())
+        if shape:  # the deviation averaged per wall and sector of 10 degrees, outliers (a handle's root) out
+            sector = label * 36 + (np.floor((np.arctan2(dy, dx) + np.pi) / (2 * np.pi) * 36).astype(np.int64) % 36)
+            sw = np.bincount(sector, wk, 36 * k)
+            mean = np.bincount(sector, wk * err, 36 * k) / np.maximum(sw, 1e-300)
+            shape_sq += float((sw * mean * mean).sum())
+            shape_w += float(sw.sum())
     e, w = np.abs(np.concatenate(errors)), np.concatenate(weights)
     rms = math.sqrt(float((w * e * e).sum() / w.sum()))
     mean_r = rsum / w.sum()
@@ -317,7 +433,10 @@ def _circle_pass(t: np.ndarray, point: np.ndarray, direction: np.ndarray, n_plan
     median = float(e[o][np.searchsorted(np.cumsum(w[o]), 0.5 * w.sum())])
     new_dir = R.T @ np.array([kx, ky, 1.0])
     new_dir /= np.linalg.norm(new_dir)
-    return point + R.T @ np.array([x0, y0, 0.0]), new_dir, (rms, rms / mean_r, median / mean_r)
+    res = (rms, rms / mean_r, median / mean_r)
+    if shape:
+        res = res + (math.sqrt(shape_sq / max(shape_w, 1e-300)), mean_r)
+    return point + R.T @ np.array([x0, y0, 0.0]), new_dir, res
 
 
 def refine_axis(triangles: np.ndarray, point, direction, iterations: int = 6):
@@ -377,7 +496,7 @@ def refine_axis(triangles: np.ndarray, point, direction, iterations: int = 6):
     t = triangles
     best = (point, direction, None)
     for _ in range(iterations):  # a few fixed-point passes
-        fit = _circle_pass(t, point, direction)
+        fit = circle_pass(t, point, direction)
         if fit is None:
             break
         new_point, new_dir, res = fit

@@ -2,7 +2,9 @@
 
 Convention: a vertical axis line (dash-dot); on one side the section of the
 wall filled black; on the other the exterior outline; a rim line across the
-mouth; a scale bar in centimetres; a label with the main measurements. The
+mouth; a scale bar in centimetres; a label with the main measurements. A
+sherd is drawn in sherd position: its section only, the rim line to the
+reconstructed diameter dashed. The
 SVG here (`slicelab.export.SvgDrawing`) and the PNG (`slicelab.viz.profile_png`)
 are drawn from one `layout`, so they cannot disagree.
 """
@@ -51,6 +53,16 @@ def layout(profile, *, side: str = "left", spread: bool = False, label: str | No
     >>> from slicelab.samples import pot
     >>> [name for name, _ in layout(profile(pot(20, 24), planes=2))["layers"]]
     ['axis', 'section', 'exterior', 'rim', 'scale', 'label']
+
+    A sherd is drawn in sherd position: its section on `side` at its radius
+    from the reconstructed axis, no exterior mirrored from it; a rim sherd's
+    rim line runs dashed across the mouth to the reconstructed diameter, a
+    body or a base sherd has none; the label holds only what the sherd gives.
+
+    >>> from slicelab.samples import scan
+    >>> sherd, _ = scan("beaker", spacing=2.0, sherd="rim", span=90.0)
+    >>> [name for name, _ in layout(profile(sherd, planes=2))["layers"]]
+    ['axis', 'section', 'rim', 'scale', 'label']
     """
     if side not in ("left", "right"):
         raise ValueError(f"side must be 'left' or 'right', got {side!r}")
@@ -71,11 +83,20 @@ def layout(profile, *, side: str = "left", spread: bool = False, label: str | No
         layers.append(("spread", [("line", np.vstack([mirror(x.polygon, s), mirror(x.polygon[:1], s)]),
                                    THIN, None) for x in others]))
     layers.append(("section", [("polygon", [mirror(h.polygon, s), *[mirror(x, s) for x in h.holes]])]))
-    layers.append(("exterior", [("line", mirror(h.outer, -s), LINE, None)]))
-    rim_in = h.inner[0] if len(h.inner) else h.polygon[h.top]
-    rim_out = h.outer[0] if len(h.outer) else h.polygon[h.top]
-    layers.append(("rim", [("line", np.array([[s * rim_in[0], rim_in[1]], [-s * rim_out[0], rim_out[1]]]),
-                            LINE, None)]))
+    sherd = getattr(profile, "sherd", None)
+    if sherd is None:  # a whole vessel: its exterior on the other side, the rim line across the mouth
+        layers.append(("exterior", [("line", mirror(h.outer, -s), LINE, None)]))
+        rim_in = h.inner[0] if len(h.inner) else h.polygon[h.top]
+        rim_out = h.outer[0] if len(h.outer) else h.polygon[h.top]
+        layers.append(("rim", [("line", np.array([[s * rim_in[0], rim_in[1]], [-s * rim_out[0], rim_out[1]]]),
+                                LINE, None)]))
+    elif sherd.kind == "rim":
+        # Sherd position: the section alone, nothing mirrored; the rim line across the mouth to the
+        # reconstructed diameter is dashed.
+        top = h.polygon[int(np.argmax(h.polygon[:, 1]))]
+        r_rim = m.rim_diameter / 2 if np.isfinite(m.rim_diameter) else float(top[0])
+        layers.append(("rim", [("line", np.array([[s * float(top[0]), float(top[1])], [-s * r_rim, float(top[1])]]),
+                                THIN, "3 1.5")]))
 
     margin = 10.0
     width = max(2 * (r_max + margin), 110.0)
@@ -89,17 +110,40 @@ def layout(profile, *, side: str = "left", spread: bool = False, label: str | No
     items += [("text", bx, y_bar - 4.5, "0", FONT, "middle"),
               ("text", bx + bar, y_bar - 4.5, f"{bar / 10:g} cm", FONT, "middle")]
     layers.append(("scale", items))
-    name = label if label is not None else (profile.name or "vessel")
-    lines = [name,
-             f"H {m.height:.1f} \u00b7 rim \u00d8 {m.rim_diameter:.1f} \u00b7 max \u00d8 {m.max_diameter:.1f} "
-             f"\u00b7 base \u00d8 {m.base_diameter:.1f} mm",
-             f"wall {m.wall_thickness_min:.1f}\u2013{m.wall_thickness_max:.1f} mm \u00b7 capacity "
-             f"{m.capacity / 1e6:.3g} l \u00b7 scale 1:1"]
+    name = label if label is not None else (profile.name or ("sherd" if sherd is not None else "vessel"))
+    lines = [name] + _label_lines(m, sherd)
     y_text = y_bar - 10.0
     layers.append(("label", [("text", x0 + margin, y_text - 1.5 * FONT * k, t, FONT, "start")
                              for k, t in enumerate(lines)]))
     y0 = y_text - 1.5 * FONT * (len(lines) - 1) - margin
     return {"page": (x0, y0, x1, z_hi + margin), "layers": layers}
+
+
+def _finite(d: dict) -> dict:
+    """`d` with NaN (a measurement that does not apply) as None."""
+    return {k: (None if isinstance(v, float) and v != v else v) for k, v in d.items()}
+
+
+def _label_lines(m, sherd) -> list:
+    """The label's lines of measurements, each number only where it applies (never NaN)."""
+    import math
+
+    def part(text, v, fmt=".1f", unit=""):
+        return f"{text} {v:{fmt}}{unit}" if v is not None and math.isfinite(v) else None
+
+    dims = [part("H", m.height), part("rim \u00d8", m.rim_diameter), part("max \u00d8", m.max_diameter),
+            part("base \u00d8", m.base_diameter)]
+    dims = [d for d in dims if d]
+    first = " \u00b7 ".join(dims) + " mm" if dims else ""
+    wall = ""
+    if math.isfinite(m.wall_thickness_min) and math.isfinite(m.wall_thickness_max):
+        wall = f"wall {m.wall_thickness_min:.1f}\u2013{m.wall_thickness_max:.1f} mm"
+    cap = part("capacity", m.capacity / 1e6 if math.isfinite(m.capacity) else None, ".3g", " l")
+    second = " \u00b7 ".join(x for x in (wall, cap, "scale 1:1") if x)
+    lines = [first, second]
+    if sherd is not None:
+        lines.insert(0, sherd.sentence())
+    return [x for x in lines if x]
 
 
 def profile_svg(profile, *, side: str = "left", spread: bool = False, label: str | None = None) -> str:
@@ -133,7 +177,7 @@ def profile_svg(profile, *, side: str = "left", spread: bool = False, label: str
     """
     lay = layout(profile, side=side, spread=spread, label=label)
     svg = SvgDrawing(lay["page"], title=label if label is not None else (profile.name or "vessel"),
-                     desc=f"slicelab profile drawing, 1:1 in mm; {profile.measurements.to_dict()!r}")
+                     desc=f"slicelab profile drawing, 1:1 in mm; {_finite(profile.measurements.to_dict())!r}")
     for name, items in lay["layers"]:
         with svg.group(name):
             for it in items:

@@ -5,7 +5,8 @@ A half-section is one side of a section through the axis, in (r, z)
 and interior outlines). Volumes come from Pappus' theorem (`pappus_volume`),
 the cavity is clipped at the fill level with `clip_ring`, wall thickness is
 the perpendicular distance between resampled outlines (`resample`).
-`measure_halves` gathers them into `Measurements`.
+`measure_halves` reads each half's smoothed outlines
+(`slicelab.artefacts.outlines`) and gathers them into `Measurements`.
 """
 from __future__ import annotations
 
@@ -18,7 +19,7 @@ import numpy as np
 if TYPE_CHECKING:
     from .profiles import HalfProfile
 
-__all__ = ["Measurements", "measure_halves", "pappus_volume", "clip_ring", "resample", "UP_COSINE"]
+__all__ = ["Measurements", "half_outlines", "measure_halves", "pappus_volume", "clip_ring", "resample", "UP_COSINE"]
 
 UP_COSINE = math.cos(math.radians(35))  # an edge faces up (down) when its outward normal is within 35 degrees of +z (-z)
 
@@ -154,39 +155,29 @@ def _edge_facing(chain: np.ndarray, reverse: bool) -> np.ndarray:
     return np.divide(-d[:, 0], length, out=np.zeros(len(d)), where=length > 0)
 
 
-def _wall_thickness(half: HalfProfile, step: float):
-    """Perpendicular wall thickness along the interior outline (floor and rim excluded).
-
-    Each interior sample's distance to the nearest of the exterior's samples,
-    taken `step` apart: off the true distance d by at most step^2 / 8d.
-    """
-    from scipy.spatial import cKDTree
-    inner, outer = half.inner, half.outer
-    if len(inner) < 2 or len(outer) < 2:
-        return np.zeros(0), np.zeros(0)
-    o_pts, _, o_edge = resample(outer, step)
-    # The underside of the base is not wall: leave out interior points nearest to it.
-    underside = _edge_facing(outer, reverse=True)[o_edge] <= -UP_COSINE
-    pts, wts, i_edge = resample(inner, step)
-    wall = _edge_facing(inner, reverse=False)[i_edge] < UP_COSINE  # the floor faces up
-    pts, wts = pts[wall], wts[wall]
-    if len(pts) == 0:
-        return np.zeros(0), np.zeros(0)
-    dist, idx = cKDTree(o_pts).query(pts)
-    keep = ~underside[idx]
-    return dist[keep], wts[keep]
+def _number(v, fmt: str) -> str:
+    """`v` formatted, or an en dash where it does not apply (NaN, None)."""
+    return format(v, fmt) if v is not None and math.isfinite(v) else "\u2013"
 
 
 @dataclass(frozen=True)
 class Measurements:
     """A vessel's measurements from its half-sections (mm, mm^3).
 
-    Diameters, heights and thicknesses are medians over the half-sections (a
-    handle in one half does not move them); volumes are means (uniform angles:
-    the mean is a quadrature of the volume integral in cylindrical
-    coordinates, handle included). Wall thickness is perpendicular (what calipers give), pooled
-    over every half, floor and rim excluded. Capacity is the cavity filled to
-    the lowest rim top, by Pappus' theorem.
+    Read off each half's outlines smoothed against the noise
+    (`slicelab.artefacts.outlines`): the height from the base plane (the
+    footprint's) to the rim plane, the base diameter at the footprint's
+    edge, the rim diameter at the rim's outer edge. Diameters, heights and
+    thicknesses are medians over the half-sections (a handle in one half
+    does not move them); volumes are means (uniform angles: the mean is a
+    quadrature of the volume integral in cylindrical coordinates, handle
+    included). Wall thickness is perpendicular (what calipers give), along
+    the interior, the floor over the footprint and a band one wall
+    thickness deep under the rim top left out: the mean is the median of the
+    halves' means, the min and max the medians of the halves' extremes.
+    Capacity is the cavity filled to the lowest rim top, by Pappus' theorem
+    (the mean over the halves, those over five robust sigmas from the median,
+    through a handle, left out).
 
     See Also
     --------
@@ -208,55 +199,68 @@ class Measurements:
     halves: int
     spread: float
     residual: float
+    noise: float = 0.0
 
     def to_dict(self) -> dict:
         """Plain floats (NaN where a measurement does not apply)."""
         return {k: getattr(self, k) for k in self.__dataclass_fields__}
 
     def __str__(self) -> str:
+        cap = self.capacity / 1e6 if math.isfinite(self.capacity) else math.nan
         rows = [("height", self.height, "mm"), ("rim diameter", self.rim_diameter, "mm"),
                 ("max diameter", self.max_diameter, "mm"),
                 ("  at height", self.max_diameter_height, "mm"),
                 ("base diameter", self.base_diameter, "mm"),
                 ("wall min/mean/max", None, "mm"), ("base thickness", self.base_thickness, "mm"),
-                ("capacity", self.capacity / 1e6, "l"), ("clay volume", self.clay_volume / 1e3, "cm3"),
+                ("capacity", cap, "l"), ("clay volume", self.clay_volume / 1e3, "cm3"),
                 ("half-sections", self.halves, ""), ("spread", self.spread, "mm"),
-                ("axis residual", self.residual, "mm")]
+                ("axis residual", self.residual, "mm"), ("noise", self.noise, "mm")]
         out = []
         for name, v, unit in rows:
             if v is None:
-                text = (f"{self.wall_thickness_min:.3f} / {self.wall_thickness_mean:.3f} / "
-                        f"{self.wall_thickness_max:.3f}")
+                text = " / ".join(_number(x, ".3f") for x in (self.wall_thickness_min, self.wall_thickness_mean,
+                                                              self.wall_thickness_max))
             else:
-                text = f"{v:.6g}" if isinstance(v, float) else str(v)
+                text = _number(v, ".6g") if isinstance(v, float) else str(v)
             out.append(f"{name:<18}{text} {unit}".rstrip())
         return "\n".join(out)
 
 
-def _base_thickness(half: HalfProfile, underside: np.ndarray) -> float:
-    """Floor height minus underside height, averaged over the inner half of the base's radius.
+def _typical(x) -> np.ndarray:
+    """`x` without values over five robust sigmas from its median (a half through a handle)."""
+    x = np.asarray(x, dtype=float)
+    if len(x) < 3:
+        return x
+    dev = np.abs(x - np.median(x))
+    return x[dev <= max(5 * 1.4826 * float(np.median(dev)), 1e-9 * float(np.abs(x).max()))]
 
-    Averaged rather than read at the axis alone, where one noisy vertex on
-    each side would decide it.
+
+def half_outlines(halves: list[HalfProfile], height: float, noise: float | None = None):
+    """Each half's smoothed outlines (`slicelab.artefacts.outlines.outline`), and the noise they were
+    smoothed for (estimated from the halves when not given; `ring_noise`).
+
+    The resampling step is 1/2000 of the larger of `height` and the widest radius.
+
+    Examples
+    --------
+    >>> from slicelab.artefacts import half_profiles
+    >>> from slicelab.samples import revolve
+    >>> cup = revolve([[0, 0], [40, 0], [40, 80], [37, 80], [37, 5], [0, 5]], 256)
+    >>> outs, noise = half_outlines(half_profiles(cup, 0.0), 80.0)
+    >>> [round(o.height, 6) for o in outs], noise
+    ([80.0, 80.0], 0.0)
     """
-    inner = half.inner
-    up = _edge_facing(inner, reverse=False)[::-1] >= UP_COSINE
-    run = int(np.argmin(up)) if not up.all() else len(up)
-    floor = inner[::-1][: run + 1]  # from the axis outwards, while the interior faces up
-    r_lim = 0.5 * min(float(floor[:, 0].max()), float(underside[:, 0].max()))
-    if len(floor) < 2 or len(underside) < 2 or not r_lim > 0:
-        on_axis = half.polygon[half.polygon[:, 0] == 0, 1]
-        return float(on_axis.max() - on_axis.min())
-    r = np.linspace(0.0, r_lim, 65)
-
-    def height(chain):
-        o = np.argsort(chain[:, 0], kind="stable")
-        return np.interp(r, chain[o, 0], chain[o, 1])
-
-    return float(np.mean(height(floor) - height(underside)))
+    from .outlines import outline, ring_noise
+    if noise is None:
+        noise = float(np.median([ring_noise(h.polygon) for h in halves])) if halves else 0.0
+        noise = noise if noise > 1e-6 else 0.0
+    size = max(height, max((float(h.polygon[:, 0].max()) for h in halves), default=0.0), 1e-9)
+    step = size / 2000
+    return [outline(h.polygon, noise, step) for h in halves], float(noise)
 
 
-def measure_halves(halves: list[HalfProfile], height: float, spread: float, residual: float) -> Measurements:
+def measure_halves(halves: list[HalfProfile], height: float, spread: float, residual: float,
+                   noise: float | None = None, outlines=None) -> Measurements:
     """Measure a vessel from its half-sections (see `Measurements` for what each number is).
 
     Parameters
@@ -264,12 +268,17 @@ def measure_halves(halves: list[HalfProfile], height: float, spread: float, resi
     halves : list of HalfProfile
         The half-sections of an aligned vessel (at least one).
     height : float
-        The vessel's height (mm); it also sets the sampling step of the
-        outlines (1/2000 of it).
+        The vessel's height range (mm); it sets the resampling step of the
+        outlines (1/2000 of the larger of it and the widest radius).
     spread : float
         Largest distance (mm) of a half from the drawn one, passed through.
     residual : float
         The alignment's circle residual (mm), passed through.
+    noise : float, optional
+        The scan's noise sigma (mm), which sizes the smoothing; estimated from
+        the halves' outlines when not given (`slicelab.artefacts.outlines.ring_noise`).
+    outlines : list of Outline, optional
+        The halves' outlines from `half_outlines` (computed here when not given).
 
     Returns
     -------
@@ -279,6 +288,7 @@ def measure_halves(halves: list[HalfProfile], height: float, spread: float, resi
     --------
     slicelab.artefacts.half_profiles : the half-sections.
     slicelab.artefacts.profile : aligns, cuts and measures in one call.
+    slicelab.artefacts.outlines.outline : what is read off each half.
 
     Examples
     --------
@@ -290,58 +300,39 @@ def measure_halves(halves: list[HalfProfile], height: float, spread: float, resi
     (80.0, 5.0, 1.0)
     """
     nan = float("nan")
-    rim, rmax, zmax, base, base_t, clay = [], [], [], [], [], []
-    thick, thick_w = [], []
-    step = max(height, 1e-9) / 2000
-    for h in halves:  # over half-sections (tens)
-        ring = h.polygon
-        rim.append(h.outer[0, 0] if len(h.outer) else nan)
-        k = int(np.argmax(ring[:, 0]))
-        rmax.append(ring[k, 0])
-        zmax.append(ring[k, 1])
-        # Footprint: the exterior's downward-facing run at its bottom end.
-        face = _edge_facing(h.outer, reverse=True)
-        down = face[::-1] <= -UP_COSINE
-        run = int(np.argmin(down)) if not down.all() else len(down)
-        base.append(h.outer[::-1][run, 0] if len(h.outer) else nan)
-        if (ring[:, 0] == 0).sum() >= 2:
-            base_t.append(_base_thickness(h, h.outer[::-1][: run + 1]))
-        clay.append(pappus_volume(ring) + sum(pappus_volume(x) for x in h.holes))
-        t, w = _wall_thickness(h, step)
-        thick.append(t)
-        thick_w.append(w)
-    # Capacity: fill to the lowest rim top, i.e. the level where it would spill.
-    level = min(float(h.polygon[:, 1].max()) for h in halves)
+    if outlines is None:
+        outlines, noise = half_outlines(halves, height, noise)
+    outs = outlines
+    clay = [pappus_volume(h.polygon) + sum(pappus_volume(x) for x in h.holes) for h in halves]
+    # Capacity: fill to the lowest rim top, the level where it would spill; a dip of the lowest
+    # half under the median within three sigmas of the smoothed noise is noise, not a dip.
+    closed = [o for h, o in zip(halves, outs) if o.inner[-1, 0] <= 0.0 and (h.polygon[:, 0] <= 0.0).any()]
+    tops = np.array([o.z_top for o in (closed or outs)])  # halves through the vessel's axis, if any
+    level = float(np.median(tops) - max(0.0, np.median(tops) - tops.min() - 3 * max(o.tolerance / 4 for o in outs)))
     cap = []
-    for h in halves:  # over half-sections
-        ring = h.polygon
-        on_axis = ring[:, 0] == 0
-        if not on_axis.any():
-            continue
-        k = len(ring)
-        fwd = (h.top + np.arange(k)) % k
-        stop = int(np.argmax(on_axis[fwd]))
-        cavity = np.vstack([ring[fwd[:stop + 1]], [[0.0, ring[h.top, 1]]]])
-        cavity = clip_ring(cavity, 1, keep_below=True, at=level)
+    for h, o in zip(halves, outs):  # over half-sections
+        if o.inner[-1, 0] > 0.0 or (h.polygon[:, 0] > 0.0).all():
+            continue  # the interior does not reach the axis: no cavity to fill
+        cavity = clip_ring(o.cavity(), 1, keep_below=True, at=level)
         cap.append(abs(pappus_volume(cavity)))
-    t = np.concatenate(thick) if thick else np.zeros(0)
-    w = np.concatenate(thick_w) if thick_w else np.zeros(0)
 
     def mean(x):
         x = np.asarray(x, dtype=float)
         return float(np.mean(x)) if len(x) else nan
 
     def median(x):  # lengths read off single halves: a handle or a spout in one half must not move them
-        x = np.asarray(x, dtype=float)
+        x = np.asarray([v for v in x if math.isfinite(v)], dtype=float)
         return float(np.median(x)) if len(x) else nan
 
+    walls = [o for o in outs if len(o.thickness)]
     return Measurements(
-        height=float(height), rim_diameter=2 * median(rim), max_diameter=2 * median(rmax),
-        max_diameter_height=median(zmax), base_diameter=2 * median(base),
-        wall_thickness_min=float(t.min()) if len(t) else nan,
-        wall_thickness_mean=float((t * w).sum() / w.sum()) if len(t) else nan,
-        wall_thickness_max=float(t.max()) if len(t) else nan,
-        base_thickness=median(base_t), capacity=mean(cap), clay_volume=mean(clay),
-        halves=len(halves), spread=float(spread), residual=float(residual))
-
-
+        height=median(o.height for o in outs), rim_diameter=2 * median(o.rim_r for o in outs),
+        max_diameter=2 * median(o.max_r for o in outs),
+        max_diameter_height=median(o.max_z - o.z_base for o in outs),
+        base_diameter=2 * median(o.base_r for o in outs),
+        wall_thickness_min=median(float(o.thickness.min()) for o in walls),
+        wall_thickness_mean=median(float((o.thickness * o.weight).sum() / o.weight.sum()) for o in walls),
+        wall_thickness_max=median(float(o.thickness.max()) for o in walls),
+        base_thickness=median(o.base_thickness for o in outs), capacity=mean(_typical(cap)), clay_volume=mean(clay),
+        halves=len(halves), spread=float(spread), residual=float(residual),
+        noise=float(noise if noise is not None else outs[0].noise if outs else 0.0))

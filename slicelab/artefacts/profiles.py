@@ -19,11 +19,13 @@ from ..geometry.polygons import signed_area
 from ..mesh.core import Mesh
 from ..slicing.sections import section
 from . import axis
-from .measure import UP_COSINE, Measurements, clip_ring, measure_halves, resample
+from .measure import UP_COSINE, Measurements, clip_ring, half_outlines, measure_halves, resample
 
-__all__ = ["HalfProfile", "half_profiles", "Profile", "profile"]
+__all__ = ["HalfProfile", "half_profiles", "Profile", "profile", "closing_gap"]
 
 _NOT_TYPICAL = 0.05       # half-sections further apart than this share of the radius: no one profile
+_MAX_CLOSING = 0.1        # an open scan's sections are closed across gaps up to this share of its size
+_CLOSING_MARGIN = 1.25    # times the median gap the planes need: the noise widens some of them
 
 
 @dataclass(frozen=True, eq=False)
@@ -44,6 +46,9 @@ class HalfProfile:
         Interior outline, from the rim's inner edge down to the axis (or the lowest point).
     top : int
         Index in `polygon` of the highest point (where the rim is).
+    other_area : float
+        Area (mm^2) of the other polygons of the section on this side, left out
+        (a handle's or a lug's section when it does not touch the wall).
 
     See Also
     --------
@@ -57,6 +62,7 @@ class HalfProfile:
     outer: np.ndarray
     inner: np.ndarray
     top: int
+    other_area: float = 0.0
 
     @property
     def area(self) -> float:
@@ -132,7 +138,7 @@ def half_profiles(mesh: Mesh, angle: float, *, max_gap: float = 1.0, candidates=
     scale = float(np.abs(sec.bounds()).max()) or 1.0
     out = []
     for side, a in ((1.0, angle), (-1.0, angle + math.pi)):
-        best, best_area, holes = None, 0.0, []
+        best, best_area, holes, total = None, 0.0, [], 0.0
         for poly in sec.polygons:  # over the section's few polygons
             ext = clip_ring(poly.exterior, 0, keep_below=side < 0)
             if len(ext) < 3:
@@ -141,6 +147,7 @@ def half_profiles(mesh: Mesh, angle: float, *, max_gap: float = 1.0, candidates=
             if side < 0:
                 ext = ext[::-1]
             area = signed_area(ext)
+            total += max(area, 0.0)
             if area > best_area:
                 hs = []
                 for h in poly.holes:
@@ -159,7 +166,8 @@ def half_profiles(mesh: Mesh, angle: float, *, max_gap: float = 1.0, candidates=
         if len(best) < 3:
             continue
         outer, inner, top = _split_chains(best, 0.0)
-        out.append(HalfProfile(float(a % (2 * math.pi)), best, tuple(holes), outer, inner, top))
+        out.append(HalfProfile(float(a % (2 * math.pi)), best, tuple(holes), outer, inner, top,
+                               float(total - best_area)))
     return out
 
 
@@ -219,6 +227,12 @@ class Profile:
         Label for drawings.
     mesh : Mesh or None
         The aligned mesh that was cut.
+    rim_tops, max_radii : ndarray
+        Per half: the rim plane's height and the widest radius (smoothed outlines;
+        `slicelab.artefacts.outlines.Outline`), for `ovality`, `rim_drop` and `appendage_angle`.
+    closed_gap : float
+        For an open scan whose sections all stayed open (the rim top not captured): the gap
+        (mm) they were closed across (`closing_gap`); 0 when `max_gap` sufficed.
 
     See Also
     --------
@@ -234,15 +248,91 @@ class Profile:
     planes: int = 12
     name: str = ""
     mesh: Mesh | None = field(default=None, repr=False)
+    rim_tops: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
+    max_radii: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
+    closed_gap: float = 0.0
 
     @property
     def is_revolution(self) -> bool:
-        """True when the alignment fits (`Alignment.is_revolution`) and every half-section lies
-        within 5 % of the largest radius of the drawn one (a box's diagonal axis passes the
+        """True when the alignment fits (`Alignment.is_revolution`: circles, the noise averaged out)
+        and every half-section lies within 5 % of the largest radius of the drawn one, the halves
+        through a handle or a spout (`appendage_angle`) left out (a box's diagonal axis passes the
         first test, not this one)."""
         r = float(self.drawn.polygon[:, 0].max())
         ok = self.alignment is None or self.alignment.is_revolution
-        return bool(ok and self.measurements.spread <= _NOT_TYPICAL * r)
+        s = self.spread
+        if self.sherd is not None:  # its sections differ at their breaks by nature
+            return bool(ok)
+        if self.appendage_angle is not None:
+            s = s[~self._astray()]
+        return bool(ok and (float(s.max()) if len(s) else 0.0) <= _NOT_TYPICAL * r)
+
+    @property
+    def ovality(self) -> float:
+        """(D_max - D_min) / D_mean of the widest diameter over the angles, in % (NaN for a sherd):
+        the halves' widest radii fitted with r0 + a cos 2t + b sin 2t, 2 hypot(a, b) / r0."""
+        r, t = self.max_radii, np.array([h.angle for h in self.halves])
+        if self.sherd is not None or len(r) < 4:
+            return float("nan")
+        # Halves through a handle left out: those straying over three times the median spread (and
+        # over 1 % of the radius: an exact mesh's halves differ by rounding).
+        keep = self.spread <= max(3 * float(np.median(self.spread)), 0.01 * float(np.median(r)))
+        if keep.sum() < 4:
+            keep = np.ones(len(r), bool)
+        A = np.column_stack([np.ones(len(t)), np.cos(2 * t), np.sin(2 * t)])[keep]
+        sol = np.linalg.lstsq(A, r[keep], rcond=None)[0]
+        return float(200 * math.hypot(sol[1], sol[2]) / sol[0]) if sol[0] > 0 else float("nan")
+
+    @property
+    def rim_drop(self) -> float:
+        """How far (mm) the lowest half's rim top sits under the median rim top: a chipped or
+        unevenly cut rim (0 for a level one; NaN for a sherd)."""
+        if self.sherd is not None or not len(self.rim_tops):
+            return float("nan")
+        return float(np.median(self.rim_tops) - self.rim_tops.min())
+
+    @property
+    def appendage_angle(self) -> float | None:
+        """Angle (degrees, about the aligned axis) of a handle, spout or lug, or None.
+
+        The surface standing more than 3 mm (and 4 % of the radius) outside the
+        body's widest outline at its height (the halves' outlines, their
+        median per height) and holding over 0.3 % of the vertices, gathered
+        on one side (their mean direction at least 0.7 long), is an appendage.
+        """
+        if self.sherd is not None or self.mesh is None or len(self.halves) < 2:
+            return None
+        v = self.mesh.triangles.reshape(-1, 3)[:: max(1, len(self.mesh) // 100_000)]
+        z = np.linspace(float(v[:, 2].min()), float(v[:, 2].max()), 201)
+        widest = np.zeros((len(self.halves), len(z) - 1))
+        for i, h in enumerate(self.halves):  # the body's widest radius per height band, per half
+            p = resample(np.vstack([h.polygon, h.polygon[:1]]), (z[1] - z[0]) / 2)[0]
+            k = np.clip(np.searchsorted(z, p[:, 1]) - 1, 0, len(z) - 2)
+            np.maximum.at(widest[i], k, p[:, 0])
+        body = np.median(widest, axis=0)
+        r = np.hypot(v[:, 0], v[:, 1])
+        k = np.clip(np.searchsorted(z, v[:, 2]) - 1, 0, len(z) - 2)
+        out = r > body[k] + max(3.0, 0.04 * float(body.max()))
+        if out.sum() < 0.003 * len(v):
+            return None
+        t = np.arctan2(v[out, 1], v[out, 0])
+        c, s = float(np.cos(t).mean()), float(np.sin(t).mean())
+        if math.hypot(c, s) < 0.7:  # not on one side
+            return None
+        return float(math.degrees(math.atan2(s, c)) % 360)
+
+    def _astray(self) -> np.ndarray:
+        """Per half: does it stray far from the drawn one, or carry another polygon (a detached
+        handle's section) over 2 % of its own area?"""
+        s = self.spread
+        r = float(self.drawn.polygon[:, 0].max())
+        extra = np.array([h.other_area > 0.02 * h.area for h in self.halves])
+        return (s > max(5 * float(np.median(s)), 0.03 * r)) | extra
+
+    @property
+    def sherd(self):
+        """The sherd's report (`slicelab.artefacts.sherds.SherdReport`), or None for a whole vessel."""
+        return None if self.alignment is None else self.alignment.sherd
 
     @property
     def drawn(self) -> HalfProfile:
@@ -251,6 +341,8 @@ class Profile:
 
     def __repr__(self) -> str:
         m = self.measurements
+        if self.sherd is not None:
+            return f"Profile({len(self.halves)} halves, {self.sherd.sentence()}, spread {m.spread:.3g} mm)"
         return (f"Profile({len(self.halves)} halves, height {m.height:.4g} mm, rim {m.rim_diameter:.4g} mm, "
                 f"capacity {m.capacity / 1e6:.4g} l, spread {m.spread:.3g} mm)")
 
@@ -261,7 +353,8 @@ class Profile:
                 "representative_angle": d.angle, "angles": [h.angle for h in self.halves],
                 "spread": self.spread.tolist(), "polygon": d.polygon.tolist(),
                 "outer": d.outer.tolist(), "inner": d.inner.tolist(),
-                "alignment": self.alignment.to_dict() if self.alignment else None}
+                "alignment": self.alignment.to_dict() if self.alignment else None,
+                "sherd": self.sherd.to_dict() if self.sherd is not None else None}
 
     def svg(self, *, side: str = "left", spread: bool = False, label: str | None = None) -> str:
         """The profile drawing as SVG text, 1:1 in mm (see `to_svg`)."""
@@ -333,6 +426,10 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
         Run `slicelab.artefacts.align` first.
     max_gap : float, default 1.0
         As in `slicelab.section`; planes whose section stays open are left out.
+        When every plane's does and the openings are at the top, the base
+        down (an open scan: the rim top not captured), the sections are closed across 1.25 times
+        the gap most of them need (`closing_gap`), if that is under a tenth of
+        the vessel's size, and `Profile.closed_gap` says so.
     name : str
         Label for the drawing.
 
@@ -343,7 +440,7 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
     Raises
     ------
     ValueError
-        No plane gave a closed section.
+        No plane gave a closed section (the message names the `max_gap` that would close them).
 
     See Also
     --------
@@ -366,18 +463,108 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
     if align:
         alignment = axis.align(mesh)
         mesh = alignment.mesh
+    if alignment is not None and alignment.sherd is not None:
+        return _sherd_profile(mesh, alignment, planes, max_gap, name)
     angles = [math.pi * k / planes for k in range(planes)]
+    cands = _candidates(mesh, angles)
     halves: list[HalfProfile] = []
-    for a, cand in zip(angles, _candidates(mesh, angles)):  # over planes
+    for a, cand in zip(angles, cands):  # over planes
         halves += half_profiles(mesh, a, max_gap=max_gap, candidates=cand)
+    closed_gap = 0.0
     if not halves:
-        raise ValueError("no plane through the axis gave a closed section (is the mesh aligned and closed?)")
+        # An open scan (the rim top not captured): every section is open. Close them across the
+        # gap most planes need, if it is small beside the vessel; the report says so (`closed_gap`).
+        gap, low = closing_gap(mesh, angles, cands, lowest=True)
+        z = mesh.triangles[..., 2]
+        size = max(float(z.max() - z.min()), float(np.abs(mesh.triangles[..., :2]).max()))
+        # The openings must be at the rim, and the rim known to be up by the base, not by the openings.
+        at_rim = low >= float(z.max()) - max(2 * gap, 0.05 * float(z.max() - z.min())) and \
+            (alignment is None or alignment.up_from == "base")
+        if not math.isfinite(gap) or gap > _MAX_CLOSING * size or not at_rim:
+            hint = f"; --max-gap {math.ceil(_CLOSING_MARGIN * gap * 10) / 10:g} would close them" \
+                if math.isfinite(gap) else ""
+            raise ValueError(f"no plane through the axis gave a closed section (is the mesh aligned and closed?)"
+                             f"{hint}")
+        closed_gap = math.ceil(_CLOSING_MARGIN * gap * 10) / 10
+        for a, cand in zip(angles, cands):  # over planes
+            halves += half_profiles(mesh, a, max_gap=closed_gap, candidates=cand)
+        if not halves:
+            raise ValueError(f"no plane through the axis gave a closed section, even across gaps of "
+                             f"{closed_gap:g} mm")
     halves.sort(key=lambda h: h.angle)
     z = mesh.triangles[..., 2]
     height = float(z.max() - z.min())
     rep, spread = _representative(halves, height)
     residual = alignment.residual if alignment is not None else float("nan")
-    m = measure_halves(halves, height, float(spread.max()), residual)
+    outs, noise = half_outlines(halves, height, alignment.noise if alignment is not None else None)
+    m = measure_halves(halves, height, float(spread.max()), residual, noise, outs)
+    return Profile(tuple(halves), rep, spread, m, alignment, planes, name, mesh,
+                   np.array([o.z_top for o in outs]), np.array([o.max_r for o in outs]), closed_gap)
+
+
+def closing_gap(mesh: Mesh, angles, candidates=None, *, lowest: bool = False):
+    """The `max_gap` (mm) that closes the sections of an open scan through the axis at `angles`.
+
+    Per plane, each open chain's end is paired with the nearest chain start
+    (the way `slicelab.section` joins them, nearest first); the plane needs the
+    largest of those distances. The answer is the median over the planes
+    whose sections are open (a hole in the wall opens a few planes only, an
+    uncaptured rim all of them); infinite when none is open. With
+    ``lowest=True``, also the height of the lowest open end (where the scan
+    is open: at the rim, or lower).
+
+    Examples
+    --------
+    >>> from slicelab.samples import scan
+    >>> mesh, _ = scan("beaker", spacing=2.0, pose=False, open_rim=True)
+    >>> round(closing_gap(mesh, [0.0, 1.0]), 1)  # the rim top, 3 mm wide, was not captured
+    3.0
+    """
+    from scipy.spatial import cKDTree
+    need, low = [], math.inf
+    for k, a in enumerate(angles):  # a few planes
+        c, s = math.cos(a), math.sin(a)
+        sub = mesh if candidates is None else Mesh(mesh.triangles[candidates[k]])
+        sec = section(sub, (0.0, 0.0, 0.0), (s, -c, 0.0), max_gap=0.0)
+        if not sec.open_chains:
+            continue
+        ends = np.array([ch[-1] for ch in sec.open_chains])
+        starts = np.array([ch[0] for ch in sec.open_chains])
+        need.append(float(cKDTree(starts).query(ends)[0].max()))
+        low = min(low, float(ends[:, 1].min()), float(starts[:, 1].min()))
+    gap = float(np.median(need)) if need else math.inf
+    return (gap, low) if lowest else gap
+
+
+def _sherd_profile(mesh: Mesh, alignment, planes: int, max_gap: float, name: str) -> Profile:
+    """A sherd's profile: `planes` sections across its span, the drawn one the medoid; what the
+    sherd holds is measured (its rim or base, its wall), the rest is NaN."""
+    from ..mesh.validation import signed_volume
+    from .sherds import sherd_interval, sherd_wall
+    start, width = sherd_interval(mesh.triangles.reshape(-1, 3))
+    angles = start + width * (np.arange(planes) + 0.5) / planes
+    halves = []
+    for a in angles:  # over planes
+        halves += [h for h in half_profiles(mesh, float(a), max_gap=max_gap)
+                   if abs((h.angle - a + math.pi) % (2 * math.pi) - math.pi) < 1e-6]
+    if not halves:
+        raise ValueError("no plane through the axis gave a closed section of the sherd (is it closed?)")
+    z = mesh.triangles[..., 2]
+    rep, spread = _representative(halves, float(z.max() - z.min()))
+    report = alignment.sherd
+    walls = [sherd_wall(h.polygon) for h in halves]
+    walls = [w for w in walls if len(w)]
+    nan = float("nan")
+
+    def med(x):
+        return float(np.median(x)) if len(x) else nan
+
+    m = Measurements(
+        height=nan, rim_diameter=report.rim_diameter, max_diameter=nan, max_diameter_height=nan,
+        base_diameter=report.base_diameter, wall_thickness_min=med([w.min() for w in walls]),
+        wall_thickness_mean=med([w.mean() for w in walls]), wall_thickness_max=med([w.max() for w in walls]),
+        base_thickness=nan, capacity=nan, clay_volume=abs(signed_volume(mesh.triangles)), halves=len(halves),
+        spread=float(spread.max()), residual=alignment.residual, noise=alignment.noise)
     return Profile(tuple(halves), rep, spread, m, alignment, planes, name, mesh)
 
 

@@ -161,6 +161,8 @@ def _run_profile(args) -> int:
     p = r.value
     if p.alignment is not None:
         print(f"{args.file}: {r.n_facets} facets; {p.alignment!r}")
+    if p.sherd is not None:
+        print(p.sherd.sentence())
     print(p.measurements)
     t = r.timings
     print(f"load {t['load']:.2f} s, align + profile {t['compute']:.2f} s, drawing {t['write']:.2f} s; "

@@ -240,18 +240,64 @@ def _profile_write(pr, inp, p, out):
 
 
 def _profile_report(pr, inp, p):
+    """Results (NaN left as None by `plain`) and the warnings, each naming its cause."""
+    import math
     a, m = pr.alignment, pr.measurements
     results = {**m.to_dict(), "relative_residual": None if a is None else a.relative_residual,
                "up_from": None if a is None else a.up_from, "axis": None if a is None else a.axis.tolist(),
-               "origin": None if a is None else a.origin.tolist()}
+               "origin": None if a is None else a.origin.tolist(),
+               "shape_residual": None if a is None else a.shape_residual,
+               "span": None if a is None else a.span, "ovality": pr.ovality, "rim_drop": pr.rim_drop,
+               "appendage_angle": pr.appendage_angle, "closed_gap": pr.closed_gap,
+               "sherd": None if pr.sherd is None else pr.sherd.to_dict()}
     reasons = []
+    sherd = pr.sherd
+    if sherd is not None:
+        reasons.append(reason("sherd", sherd.sentence() + (
+            "; no capacity, height or base diameter" if sherd.kind != "base" else "; no capacity or height")))
+        if sherd.up_from == "unknown":
+            reasons.append(reason("upside_down_risk", "no rim and no base on the sherd: which way is up is "
+                                                      "a guess, and the drawing may stand on its head"))
+    elif a is not None and a.up_from == "centre of mass":
+        reasons.append(reason("upside_down_risk", "neither a base crossing the axis nor an open rim was found: "
+                                                  "up was taken from the centre of mass"))
+    angle = pr.appendage_angle
+    if angle is not None:
+        reasons.append(reason("handle_or_spout", f"a handle, spout or lug at {angle:.0f} degrees about the axis "
+                                                 f"(in the aligned frame): the half-sections through it are "
+                                                 f"left out of the diameters"))
+    if sherd is None and len(pr.halves) < 2 * pr.planes:
+        missing = 2 * pr.planes - len(pr.halves)
+        reasons.append(reason("hole_in_wall", f"{missing // 2} of {pr.planes} planes through the axis cross a "
+                                              f"hole in the scan and were left out"))
+    if pr.closed_gap > 0:
+        reasons.append(reason("open_rim", f"the scan is open at the rim (its top was not captured): every "
+                                          f"section through the axis was open and was closed across gaps up "
+                                          f"to {pr.closed_gap:g} mm, as --max-gap {pr.closed_gap:g} would; "
+                                          f"the rim top is the chord across the gap"))
+    drop = pr.rim_drop
+    if math.isfinite(drop) and drop > max(1.0, 5 * m.noise):
+        reasons.append(reason("open_rim", f"the rim is broken or uneven: its top drops {drop:.1f} mm under the "
+                                          f"median; the capacity is filled to its lowest point"))
+    oval = pr.ovality
+    if math.isfinite(oval) and oval > _OVAL_PERCENT:
+        reasons.append(reason("asymmetric", f"the body is {oval:.1f} % oval (widest minus narrowest diameter "
+                                            f"over the mean): diameters are medians over the angles"))
+    if a is not None and a.noise > _NOISY_MM:
+        reasons.append(reason("noisy", f"the scan is noisy: about {a.noise:.2f} mm on every vertex; outlines "
+                                       f"were smoothed over {8 * a.noise:.1f} mm, and the wall's extremes widen"))
     if not pr.is_revolution:
-        fit = "" if a is None else (f"horizontal sections stray {a.residual:.3g} mm RMS "
-                                    f"({100 * a.relative_residual:.3g} % of the radius) from circles about "
-                                    f"the best axis; ")
+        fit = ""
+        if a is not None and math.isfinite(a.residual):
+            fit = (f"horizontal sections stray {a.residual:.3g} mm RMS "
+                   f"({100 * a.relative_residual:.3g} % of the radius) from circles about the best axis; ")
         reasons.append(reason("not_revolution", f"not a solid of revolution: {fit}half-sections differ by "
                                                 f"up to {m.spread:.3g} mm"))
     return results, reasons
+
+
+_OVAL_PERCENT = 1.5   # ovality (%) above which a vessel is reported asymmetric
+_NOISY_MM = 0.075     # vertex noise (mm) above which a scan is reported noisy
 
 
 PROFILE = Job(

@@ -1,4 +1,4 @@
-"""Deterministic sample solids with known geometry, for tests, notebooks and benchmarks.
+"""Deterministic sample solids with known geometry: boxes, solids of revolution, the pot, voxels.
 
 Every sample is built from an indexed vertex table, so neighbouring facets
 share bit-identical corners and the closed samples are exactly watertight.
@@ -8,12 +8,12 @@ from __future__ import annotations
 
 import numpy as np
 
-from .mesh.core import Mesh
-from .mesh.validation import signed_volume
+from ..mesh.core import Mesh
+from ..mesh.validation import signed_volume
 
-__all__ = ["random_motion", "box", "revolve", "torus", "sphere", "pot", "pot_profile", "pot_dimensions",
-           "ring_prism", "cube_with_hole", "nested_shells", "overlapping_cubes", "voxels",
-           "staircase"]
+__all__ = ["random_motion", "box", "revolve", "revolve_grid", "oriented", "torus", "sphere", "POT", "pot",
+           "pot_profile", "pot_dimensions", "ring_prism", "cube_with_hole", "concat", "nested_shells",
+           "overlapping_cubes", "figure_eight_prism", "voxels", "staircase"]
 
 
 def random_motion(rng: np.random.Generator, shift: float = 0.0) -> np.ndarray:
@@ -38,7 +38,16 @@ def random_motion(rng: np.random.Generator, shift: float = 0.0) -> np.ndarray:
     return m
 
 
-def _oriented(vertices: np.ndarray, faces: np.ndarray) -> Mesh:
+def oriented(vertices: np.ndarray, faces: np.ndarray) -> Mesh:
+    """A closed mesh from a vertex table and faces, the faces reversed if that makes the volume positive.
+
+    Examples
+    --------
+    >>> v = np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0], [0, 0, 1]], float)
+    >>> inward = np.array([[0, 1, 2], [0, 3, 1], [1, 3, 2], [0, 2, 3]])
+    >>> oriented(v, inward).triangles[0].tolist()
+    [[0.0, 1.0, 0.0], [1.0, 0.0, 0.0], [0.0, 0.0, 0.0]]
+    """
     mesh = Mesh.from_vertices_faces(vertices, faces)
     if signed_volume(mesh.triangles) < 0:
         mesh = Mesh.from_vertices_faces(vertices, faces[:, ::-1])
@@ -86,6 +95,28 @@ def revolve(profile, n_theta: int) -> Mesh:
     >>> r.watertight, round(float(r.volume / (32 * np.sin(2 * np.pi / 64))), 9)
     (True, 1.0)
     """
+    return oriented(*revolve_grid(profile, n_theta))
+
+
+def revolve_grid(profile, n_theta: int):
+    """The vertex table and faces of `revolve` (before orienting): for noise added to shared vertices.
+
+    Returns
+    -------
+    vertices : (m, 3) ndarray
+    faces : (n, 3) int ndarray
+        Consistently wound; `oriented` turns them outward.
+
+    See Also
+    --------
+    revolve, oriented
+
+    Examples
+    --------
+    >>> v, f = revolve_grid([[0, 0], [1, 0], [1, 1], [0, 1]], 8)
+    >>> v.shape, f.shape
+    ((18, 3), (32, 3))
+    """
     p = np.asarray(profile, dtype=np.float64)
     theta = 2 * np.pi * np.arange(n_theta) / n_theta
     c, s = np.cos(theta), np.sin(theta)
@@ -97,18 +128,18 @@ def revolve(profile, n_theta: int) -> Mesh:
     ring = np.stack([ring_pts[:, None, 0] * c, ring_pts[:, None, 0] * s,
                      np.broadcast_to(ring_pts[:, None, 1], (m, n_theta))], axis=-1).reshape(-1, 3)
     rid = np.arange(m * n_theta).reshape(m, n_theta)
-    faces = []
-    pairs = [(i, (i + 1) % m) for i in range(m)] if closed else [(i, i + 1) for i in range(m - 1)]
-    for a, b in pairs:
-        A, A1, B, B1 = rid[a, j], rid[a, j1], rid[b, j], rid[b, j1]
-        faces += [np.stack([A, A1, B1], 1), np.stack([A, B1, B], 1)]
+    a = np.arange(m if closed else m - 1)
+    b = (a + 1) % m
+    A, A1, B, B1 = rid[a][:, j], rid[a][:, j1], rid[b][:, j], rid[b][:, j1]  # (pairs, n_theta) each
+    # Per pair of profile points, the quads' first triangles, then their second ones.
+    faces = [np.stack([np.stack([A, A1, B1], -1), np.stack([A, B1, B], -1)], 1).reshape(-1, 3)]
     vertices = ring
     if not closed:
         p0, p1 = len(ring), len(ring) + 1
         vertices = np.vstack([ring, [[0, 0, p[0, 1]], [0, 0, p[-1, 1]]]])
         faces += [np.stack([np.full(n_theta, p0), rid[0, j1], rid[0, j]], 1),
                   np.stack([rid[-1, j], rid[-1, j1], np.full(n_theta, p1)], 1)]
-    return _oriented(vertices, np.concatenate(faces))
+    return vertices, np.concatenate(faces)
 
 
 def torus(major: float = 30.0, minor: float = 10.0, n_major: int = 96, n_minor: int = 48) -> Mesh:

@@ -1,0 +1,367 @@
+"""Vessel forms with their true dimensions: tall pot, beaker, bowl, plate, jug with a handle.
+
+Each form is a pair of dense outlines in (r, z), r the distance from the
+axis, z up, the base standing on z = 0:
+
+* the exterior, from the base's centre (0, 0) along the underside, round the
+  base corner and up the outer wall to the outer edge of the rim;
+* the interior, from the inner edge of the rim down the inner wall and along
+  the floor to the axis.
+
+A flat land at the rim height joins them. `vessel_mesh` revolves the closed
+profile at a chosen vertex spacing (a scanner's density is about 0.3 mm),
+`vessel_truth` measures the continuous outlines (the answer a measurement
+must give), `handle_mesh` makes the jug's handle: an oval tube swept along a
+D-shaped centre line whose ends are buried in the wall.
+
+Definitions shared with `slicelab.artefacts.measure_halves`: the base
+diameter is the footprint's (what touches the plane under the vessel); the
+wall thickness is the perpendicular distance from the interior to the
+exterior, averaged along the interior (arc length), leaving out the base
+(the floor over the footprint) and a band one wall thickness deep
+below the rim top; the capacity is the cavity filled to the rim.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .solids import POT
+
+__all__ = ["FORMS", "vessel_outlines", "vessel_profile", "vessel_mesh", "vessel_truth", "handle_mesh",
+           "wall_thickness_samples", "FLOOR_COSINE"]
+
+#: The vessel forms, tall to shallow; the jug is the pot-like body with a handle on its +x side.
+FORMS = ("pot", "beaker", "bowl", "plate", "jug")
+
+_STEP = 0.02  # mm between the points of the dense (true) outlines
+#: The floor faces up: its outward normal is within 45 degrees of +z.
+FLOOR_COSINE = math.cos(math.radians(45))
+_JUG = {"height": 125.0, "R0": 30.0, "A": 24.0, "L": 135.0, "wall": 3.5, "base": 5.0,
+        "handle": (55.0, 105.0, 34.0, 7.0, 3.5)}  # handle: z from, z to, reach, half width, half thickness
+
+
+def _polyline(x: np.ndarray, z: np.ndarray) -> np.ndarray:
+    return np.column_stack([x, z])
+
+
+def _segment(a, b) -> np.ndarray:
+    a, b = np.asarray(a, float), np.asarray(b, float)
+    n = max(2, int(math.ceil(float(np.hypot(*(b - a))) / _STEP)) + 1)
+    t = np.linspace(0.0, 1.0, n)[:, None]
+    return a + t * (b - a)
+
+
+def _height_form(R0, A, L, H, wall, base, power=None):
+    """Outlines of a form given by its outer radius as a function of height and a horizontal wall."""
+    z = np.linspace(0.0, H, int(H / _STEP) + 1)
+    r_o = R0 + A * ((z / H) ** power if power else np.sin(np.pi * z / L))
+    outer = np.vstack([_segment((0.0, 0.0), (r_o[0], 0.0))[:-1], _polyline(r_o, z)])
+    keep = z >= base
+    zi = np.concatenate([[base], z[keep]]) if z[keep][0] > base else z[keep]
+    ri = R0 + A * ((zi / H) ** power if power else np.sin(np.pi * zi / L)) - wall
+    inner = _polyline(ri, zi)[::-1]
+    return outer, np.vstack([inner, _segment(inner[-1], (0.0, base))[1:]])
+
+
+def _offset_form(r_base, rim_r, H, a, wall, base):
+    """Outlines of a shallow form: flat base to `r_base`, then z = H (a t + (1 - a) t^2) up to the rim,
+    t = (r - r_base) / (rim_r - r_base); the interior is the exterior wall offset by `wall`
+    (perpendicular), cut by the floor z = `base` and the rim z = `H`."""
+    t = np.linspace(0.0, 1.0, int(1.5 * math.hypot(rim_r - r_base, H) / _STEP) + 1)
+    r = r_base + (rim_r - r_base) * t
+    z = H * (a * t + (1 - a) * t * t)
+    outer = np.vstack([_segment((0.0, 0.0), (r_base, 0.0))[:-1], _polyline(r, z)])
+    d = np.gradient(np.column_stack([r, z]), axis=0)
+    d /= np.hypot(d[:, 0], d[:, 1])[:, None]
+    inner = np.column_stack([r - wall * d[:, 1], z + wall * d[:, 0]])  # the left normal points inside
+    inner = inner[(inner[:, 1] >= base) & (inner[:, 1] <= H)]
+    # The ends exactly on the floor and on the rim level.
+    lo = np.interp(base, inner[:, 1], inner[:, 0])
+    hi = np.interp(H, inner[:, 1], inner[:, 0])
+    inner = np.vstack([[lo, base], inner[(inner[:, 1] > base) & (inner[:, 1] < H)], [hi, H]])[::-1]
+    return outer, np.vstack([inner, _segment(inner[-1], (0.0, base))[1:]])
+
+
+def vessel_outlines(form: str):
+    """Dense exterior and interior outlines of a vessel form, in (r, z), 0.02 mm apart.
+
+    Parameters
+    ----------
+    form : {"pot", "beaker", "bowl", "plate", "jug"}
+        The pot is `slicelab.samples.pot`'s (120 mm tall, rim 97.6 mm, belly
+        124 mm, base 60 mm, wall 4 mm horizontal); the beaker is 100 mm tall
+        and nearly cylindrical; the bowl 48 mm tall with a 160 mm rim; the
+        plate 20 mm tall with a 240 mm rim (its wall leaves the base at 12
+        degrees); the jug is a 125 mm body with a narrow neck (its handle
+        is `handle_mesh`).
+
+    Returns
+    -------
+    outer : (n, 2) ndarray
+        From (0, 0) along the underside and up to the outer edge of the rim.
+    inner : (m, 2) ndarray
+        From the inner edge of the rim down to the floor's centre on the axis.
+
+    See Also
+    --------
+    vessel_profile, vessel_truth
+
+    Examples
+    --------
+    >>> outer, inner = vessel_outlines("plate")
+    >>> outer[-1].tolist(), inner[-1].tolist()
+    ([120.0, 20.0], [0.0, 5.0])
+    """
+    if form == "pot":
+        return _height_form(POT["R0"], POT["A"], POT["L"], POT["height"], POT["wall"], POT["base"])
+    if form == "jug":
+        return _height_form(_JUG["R0"], _JUG["A"], _JUG["L"], _JUG["height"], _JUG["wall"], _JUG["base"])
+    if form == "beaker":
+        return _height_form(33.0, 7.0, None, 100.0, 3.0, 5.0, power=1.5)
+    if form == "bowl":
+        return _offset_form(28.0, 80.0, 48.0, 0.45, 5.0, 6.0)
+    if form == "plate":
+        return _offset_form(70.0, 120.0, 20.0, 0.55, 4.5, 5.0)
+    raise ValueError(f"unknown vessel form {form!r}; choose one of {', '.join(FORMS)}")
+
+
+def _resample(chain: np.ndarray, spacing: float) -> np.ndarray:
+    """Points at most `spacing` apart along a polyline, its corners (turns over 5 degrees) kept."""
+    d = np.diff(chain, axis=0)
+    ang = np.arctan2(d[:, 1], d[:, 0])
+    turn = np.abs((np.diff(ang) + np.pi) % (2 * np.pi) - np.pi)
+    corners = np.concatenate([[0], np.flatnonzero(turn > math.radians(5)) + 1, [len(chain) - 1]])
+    out = []
+    for a, b in zip(corners[:-1], corners[1:]):  # a few smooth pieces
+        piece = chain[a:b + 1]
+        s = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(piece, axis=0).T))])
+        n = max(2, int(math.ceil(s[-1] / spacing)) + 1)
+        u = np.linspace(0.0, s[-1], n)
+        out.append(np.column_stack([np.interp(u, s, piece[:, 0]), np.interp(u, s, piece[:, 1])])[:-1])
+    return np.vstack([*out, chain[-1:]])
+
+
+def vessel_profile(form: str, spacing: float = 0.3) -> np.ndarray:
+    """The closed profile, axis to axis, with points at most `spacing` apart (corners kept).
+
+    Examples
+    --------
+    >>> p = vessel_profile("beaker", 2.0)
+    >>> p[0].tolist(), p[-1].tolist(), bool(np.hypot(*np.diff(p, axis=0).T).max() <= 2.0)
+    ([0.0, 0.0], [0.0, 5.0], True)
+    """
+    outer, inner = vessel_outlines(form)
+    return _resample(np.vstack([outer, inner]), spacing)
+
+
+def handle_mesh(spacing: float = 0.3):
+    """The jug's handle: vertices and faces of an oval tube on the +x side, ends buried in the wall.
+
+    The centre line runs in the xz plane from the middle of the wall at
+    z = 55 mm out 34 mm and back in at z = 105 mm, leaving and entering the
+    wall radially; the tube is 14 mm wide (y) and 7 mm thick, each end
+    closed by a fan.
+
+    Returns
+    -------
+    vertices : (m, 3) ndarray
+    faces : (n, 3) int ndarray
+        Wound outward.
+
+    Examples
+    --------
+    >>> v, f = handle_mesh(2.0)
+    >>> bool(v[:, 0].max() > 80), bool(v[:, 0].min() > 40)
+    (True, True)
+    """
+    z0, z1, reach, half_w, half_t = _JUG["handle"]
+    n_u = max(8, int(math.ceil(math.pi * reach / spacing)))
+    n_v = max(8, int(math.ceil(2 * math.pi * half_w / spacing)))
+    t = np.linspace(0.0, 1.0, n_u + 1)
+    z = z0 + (z1 - z0) * (1 - np.cos(np.pi * t)) / 2
+    r_mid = _JUG["R0"] + _JUG["A"] * np.sin(np.pi * z / _JUG["L"]) - _JUG["wall"] / 2
+    x = r_mid + reach * np.sin(np.pi * t)
+    tangent = np.gradient(np.column_stack([x, z]), axis=0)
+    tangent /= np.hypot(tangent[:, 0], tangent[:, 1])[:, None]
+    normal = np.column_stack([-tangent[:, 1], tangent[:, 0]])  # in the xz plane
+    psi = 2 * np.pi * np.arange(n_v) / n_v
+    px = x[:, None] + half_t * np.cos(psi) * normal[:, None, 0]
+    pz = z[:, None] + half_t * np.cos(psi) * normal[:, None, 1]
+    py = np.broadcast_to(half_w * np.sin(psi), px.shape)
+    ring = np.stack([px, py, pz], axis=-1).reshape(-1, 3)
+    rid = np.arange(len(ring)).reshape(n_u + 1, n_v)
+    j, j1 = np.arange(n_v), (np.arange(n_v) + 1) % n_v
+    A, A1, B, B1 = rid[:-1][:, j], rid[:-1][:, j1], rid[1:][:, j], rid[1:][:, j1]
+    faces = np.stack([np.stack([A, A1, B1], -1), np.stack([A, B1, B], -1)], 1).reshape(-1, 3)
+    c0, c1 = len(ring), len(ring) + 1
+    vertices = np.vstack([ring, [[x[0], 0.0, z[0]], [x[-1], 0.0, z[-1]]]])
+    faces = np.vstack([faces, np.stack([np.full(n_v, c0), rid[0, j1], rid[0, j]], 1),
+                       np.stack([rid[-1, j], rid[-1, j1], np.full(n_v, c1)], 1)])
+    tri = vertices[faces]
+    # Outward: the tube's centre line lies behind every facet of its side wall.
+    mid = tri[: 2 * n_u * n_v].mean(axis=1)
+    nrm = np.cross(tri[: 2 * n_u * n_v, 1] - tri[: 2 * n_u * n_v, 0], tri[: 2 * n_u * n_v, 2] - tri[: 2 * n_u * n_v, 0])
+    axis_pts = np.repeat(np.column_stack([x[:-1], np.zeros(n_u), z[:-1]]), 2 * n_v, axis=0)
+    if float(np.einsum("ij,ij->", nrm, mid - axis_pts)) < 0:
+        faces = faces[:, ::-1]
+    return vertices, faces
+
+
+def _revolve_even(profile: np.ndarray, spacing: float):
+    """Revolve an axis-to-axis profile with about `spacing` between vertices everywhere.
+
+    Each ring of the profile gets a power-of-two share of the widest ring's
+    vertices (at least 8), so that its vertices stay about `spacing` apart
+    near the axis too, as a scanner's would; neighbouring rings differ by a
+    factor of two at most, and such a pair is joined by three triangles per
+    segment of the smaller ring. The poles are fans.
+    """
+    ring_pts = profile[1:-1]
+    r = ring_pts[:, 0]
+    n_full = max(16, int(math.ceil(2 * math.pi * float(r.max()) / spacing / 8)) * 8)
+    levels = int(math.log2(n_full // 8)) if n_full >= 16 else 0
+    while n_full % (2 ** levels):
+        levels -= 1
+    want = np.floor(np.log2(np.maximum(n_full * spacing / (2 * np.pi * np.maximum(r, 1e-12)), 1.0)))
+    h = np.clip(want, 0, levels).astype(np.int64)
+    idx = np.arange(len(h))
+    h = np.minimum(h, np.minimum.accumulate(h - idx) + idx)  # neighbours one halving apart at most:
+    h = np.minimum(h, (np.minimum.accumulate((h + idx)[::-1]) - idx[::-1])[::-1])  # forward, then back
+    counts = n_full >> h
+    starts = np.concatenate([[0], np.cumsum(counts)])
+    j = np.arange(int(starts[-1])) - np.repeat(starts[:-1], counts)
+    ring_of = np.repeat(np.arange(len(ring_pts)), counts)
+    theta = 2 * np.pi * j / counts[ring_of]
+    vertices = np.column_stack([r[ring_of] * np.cos(theta), r[ring_of] * np.sin(theta), ring_pts[ring_of, 1]])
+    faces = []
+    na, nb = counts[:-1], counts[1:]
+    for ca, cb in sorted(set(zip(na.tolist(), nb.tolist()))):  # a few kinds of neighbouring rings
+        k = np.flatnonzero((na == ca) & (nb == cb))
+        a0, b0 = starts[k][:, None], starts[k + 1][:, None]
+        if ca == cb:
+            i = np.arange(ca)
+            A, A1, B, B1 = a0 + i, a0 + (i + 1) % ca, b0 + i, b0 + (i + 1) % cb
+            faces += [np.stack([A, A1, B1], -1).reshape(-1, 3), np.stack([A, B1, B], -1).reshape(-1, 3)]
+            continue
+        big, small, nbig, nsmall, flip = (a0, b0, ca, cb, False) if ca > cb else (b0, a0, cb, ca, True)
+        i = np.arange(nsmall)
+        P0, P1, P2 = big + 2 * i, big + (2 * i + 1) % nbig, big + (2 * i + 2) % nbig
+        S0, S1 = small + i, small + (i + 1) % nsmall
+        tri = np.concatenate([np.stack([P0, P1, S0], -1).reshape(-1, 3), np.stack([P1, S1, S0], -1).reshape(-1, 3),
+                              np.stack([P1, P2, S1], -1).reshape(-1, 3)])
+        faces.append(tri[:, ::-1] if flip else tri)
+    p0, p1 = len(vertices), len(vertices) + 1
+    vertices = np.vstack([vertices, [[0.0, 0.0, profile[0, 1]], [0.0, 0.0, profile[-1, 1]]]])
+    n0, nl = int(counts[0]), int(counts[-1])
+    i0, il = np.arange(n0), np.arange(nl)
+    faces += [np.stack([np.full(n0, p0), starts[0] + (i0 + 1) % n0, starts[0] + i0], 1),
+              np.stack([starts[-2] + il, starts[-2] + (il + 1) % nl, np.full(nl, p1)], 1)]
+    return vertices, np.concatenate(faces).astype(np.int64)
+
+
+def vessel_mesh(form: str, spacing: float = 0.3):
+    """Vertices and faces of a vessel form revolved with about `spacing` mm between vertices.
+
+    The spacing holds everywhere, near the axis too (`_revolve_even`: rings
+    near the axis get fewer vertices); the jug's handle (`handle_mesh`) is
+    added as a second shell.
+
+    Returns
+    -------
+    vertices : (m, 3) ndarray
+    faces : (n, 3) int ndarray
+        Wound outward.
+
+    See Also
+    --------
+    slicelab.samples.scan : the same with noise, pose, holes and sherds.
+
+    Examples
+    --------
+    >>> from slicelab import Mesh, check
+    >>> v, f = vessel_mesh("plate", 4.0)
+    >>> r = check(Mesh.from_vertices_faces(v, f)); r.watertight, round(float(v[:, 2].max()), 6)
+    (True, 20.0)
+    """
+    from ..mesh.validation import signed_volume
+    v, f = _revolve_even(vessel_profile(form, spacing), spacing)
+    if signed_volume(v[f]) < 0:
+        f = f[:, ::-1]
+    if form == "jug":
+        hv, hf = handle_mesh(spacing)
+        f = np.vstack([f, hf + len(v)])
+        v = np.vstack([v, hv])
+    return v, f
+
+
+def wall_thickness_samples(outer: np.ndarray, inner: np.ndarray, footprint_r: float, rim_z: float):
+    """Perpendicular wall thickness along the interior, base and rim band left out (the shared definition).
+
+    Parameters
+    ----------
+    outer, inner : (n, 2), (m, 2) ndarray
+        Dense outlines, as `vessel_outlines` gives them.
+    footprint_r : float
+        Radius of the footprint: the floor over it (interior facing up, `FLOOR_COSINE`) is base, not wall.
+    rim_z : float
+        Height of the rim top.
+
+    Returns
+    -------
+    thickness : (k,) ndarray
+        At the interior points kept.
+    weight : (k,) ndarray
+        Arc length each stands for.
+
+    Examples
+    --------
+    >>> t, w = wall_thickness_samples(*vessel_outlines("beaker"), 33.0, 100.0)
+    >>> round(float(np.median(t)), 2)
+    2.99
+    """
+    from scipy.spatial import cKDTree
+    d = cKDTree(outer).query(inner)[0]
+    step = np.diff(inner, axis=0)
+    seg = np.hypot(step[:, 0], step[:, 1])
+    w = np.concatenate([[seg[0] / 2], (seg[1:] + seg[:-1]) / 2, [seg[-1] / 2]])
+    # Facing up: the interior runs from the rim to the axis, so the floor runs towards smaller r.
+    dr = np.gradient(inner[:, 0])
+    length = np.hypot(dr, np.gradient(inner[:, 1]))
+    up = -dr >= FLOOR_COSINE * length
+    base = up & (inner[:, 0] <= footprint_r)
+    t_ref = float(np.median(d[~base])) if (~base).any() else 0.0
+    keep = ~base & (inner[:, 1] <= rim_z - t_ref)
+    return d[keep], w[keep]
+
+
+def vessel_truth(form: str) -> dict:
+    """True dimensions of a vessel form (mm, mm^3), from its dense outlines.
+
+    Returns
+    -------
+    dict
+        ``height``, ``rim_diameter`` (outer edge of the rim), ``max_diameter``
+        (the body's; the jug's handle left out), ``base_diameter`` (the
+        footprint), ``wall`` (mean perpendicular wall thickness, see
+        `wall_thickness_samples`), ``wall_min``, ``wall_max``, ``capacity``
+        (filled to the rim, Pappus' theorem on the cavity).
+
+    Examples
+    --------
+    >>> t = vessel_truth("pot")
+    >>> round(t["max_diameter"], 3), round(t["base_diameter"], 3), round(t["capacity"] / 1e6, 4)
+    (124.0, 60.0, 0.9211)
+    """
+    outer, inner = vessel_outlines(form)
+    H = float(outer[-1, 1])
+    foot = float(outer[outer[:, 1] <= 0.0, 0].max())
+    t, w = wall_thickness_samples(outer, inner, foot, H)
+    cavity = np.vstack([inner, [[0.0, H]]])
+    r, z = cavity[:, 0], cavity[:, 1] - cavity[:, 1].mean()
+    r1, z1 = np.roll(r, -1), np.roll(z, -1)
+    capacity = abs(float(2 * np.pi * ((r + r1) * (r * z1 - r1 * z)).sum() / 6.0))
+    return {"height": H, "rim_diameter": 2 * float(outer[-1, 0]), "max_diameter": 2 * float(outer[:, 0].max()),
+            "base_diameter": 2 * foot, "wall": float((t * w).sum() / w.sum()), "wall_min": float(t.min()),
+            "wall_max": float(t.max()), "capacity": capacity}
