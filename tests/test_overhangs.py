@@ -195,12 +195,12 @@ def test_supports_hold_the_cap_of_a_mushroom(tmp_path):
         kinds = {kind for kind, _ in rows[k]}
         assert kinds == ({"support_interface"} if k > top - s.support_interface_layers else {"support"}), (k, kinds)
     # Sparse lines about support_spacing apart: the length laid is about area / spacing.
-    # Sparse lines support_spacing apart (along x on even layers): the length laid along them is
-    # about the area over the spacing (the links between lines, along the outline, left out).
+    # Sparse lines a gap of support_spacing apart, plus a line (along x on even layers): the length
+    # laid along them is about the area over that pitch (the links along the outline left out).
     seg = np.concatenate([np.diff(q, axis=0) for kind, q in rows[2] if kind == "support"])
     along = np.abs(seg[:, 1]) < 1e-9
     area = 16 * 16 - (4 + 2 * s.support_xy_gap) ** 2
-    assert np.abs(seg[along, 0]).sum() == pytest.approx(area / s.support_spacing, rel=0.2)
+    assert np.abs(seg[along, 0]).sum() == pytest.approx(area / (s.support_spacing + s.line_width), rel=0.2)
     assert pp.warnings() == []  # held
     path = tmp_path / "m.gcode"
     write_gcode(pp, path)

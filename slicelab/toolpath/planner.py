@@ -365,8 +365,10 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
 def _with_supports(layers: list, sections: list, unheld: list, s: PrintSettings) -> list:
     """The layers with their support material printed after the skirt and before the islands."""
     from .supports import support_paths
-    rows = support_paths(sections, unheld, mode=s.support, line_width=s.line_width, spacing=s.support_spacing,
-                         interface_spacing=s.support_interface_spacing, xy_gap=s.support_xy_gap,
+    # The settings give the gaps between lines, as PrusaSlicer does: a line width more apart.
+    rows = support_paths(sections, unheld, mode=s.support, line_width=s.line_width,
+                         spacing=s.support_spacing + s.line_width,
+                         interface_spacing=s.support_interface_spacing + s.line_width, xy_gap=s.support_xy_gap,
                          z_gap_layers=s.support_z_gap_layers, interface_layers=s.support_interface_layers)
     out = []
     for lp, extra in zip(layers, rows):  # over layers

@@ -82,13 +82,14 @@ class Skins:
 class Supports:
     """Support material (`slicelab.toolpath.supports`): `support` is ``"off"``, ``"auto"``
     (under every unheld overhang, standing on the bed or the part) or ``"bed"`` (only where a
-    column reaches the bed); sparse lines `support_spacing` apart with
-    `support_interface_layers` denser layers (`support_interface_spacing`) on top; a gap of
-    `support_xy_gap` (mm) to the part beside it and `support_z_gap_layers` layers under it."""
+    column reaches the bed); sparse lines with a gap of `support_spacing` between them (so a
+    line width more from centre to centre, as PrusaSlicer counts it), and
+    `support_interface_layers` denser layers on top (gap `support_interface_spacing`); a gap
+    of `support_xy_gap` (mm) to the part beside it and `support_z_gap_layers` layers under it."""
 
     support: str = "off"
     support_spacing: float = 2.5
-    support_interface_spacing: float = 0.6
+    support_interface_spacing: float = 0.2
     support_interface_layers: int = 2
     support_xy_gap: float = 0.6
     support_z_gap_layers: int = 1
