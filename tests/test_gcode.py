@@ -268,14 +268,24 @@ def test_fan_and_temperatures_in_order(cube):
     cmds = [c for _, c in g["commands"]]
     heat = [cmds.index(c) for c in ("M140 S60", "M104 S210", "M190 S60", "M109 S210")]
     assert heat == sorted(heat) and heat[-1] < cmds.index("G28")
-    fan = [(k, c) for k, c in g["commands"] if c.startswith(("M106", "M107"))]
     # Off from the start; from layer fan_off_layers on at 50 % (S127, PrusaSlicer's truncation),
-    # raised towards full as layers get quicker than fan_below_layer_time; off at the end.
+    # raised towards full as layers get quicker than fan_below_layer_time; off at the end. A
+    # layer's own fan is set at its start (bridges turn it to full for their block only).
     seconds = totals["layer_seconds"]
     want = [layer_fan(k, t, s) for k, t in enumerate(seconds)]
-    changes = [(k, f"M106 S{int(255 * f / 100)}" if f else "M107") for k, f in enumerate(want)
-               if f != (want[k - 1] if k else 0)]
-    assert fan == [(-1, "M107")] + changes + [(len(pp.layers) - 1, "M107")]
+    code = lambda f: f"M106 S{int(255 * f / 100)}" if f else "M107"  # noqa: E731
+    changes = [(k, code(f)) for k, f in enumerate(want) if f != (want[k - 1] if k else 0)]
+    layers = text.split(";LAYER_CHANGE")
+    assert layers[0].rstrip().endswith("M107")
+    at_start = [(k, line) for k, block in enumerate(layers[1:])
+                for line in block.split(";TYPE:")[0].splitlines() if line.startswith(("M106", "M107"))]
+    assert at_start == changes
+    for k, block in enumerate(layers[1:]):  # a bridge's full fan ends with its block
+        for b in block.split(";TYPE:")[1:]:
+            if b.startswith("Bridge infill"):
+                assert b.splitlines()[1] == "M106 S255"
+                assert b.split(";LAYER")[0].rstrip().splitlines()[-1] == code(want[k]) or want[k] == 100
+    assert layers[-1].split("; end")[1].count("M107") == 1  # off at the end
     assert want[:s.fan_off_layers] == [0] * s.fan_off_layers and min(want[s.fan_off_layers:]) >= 50
     end = cmds[cmds.index(changes[0][1]):]
     assert end.index("M104 S0") < end.index("M140 S0") < end.index("M84")

@@ -138,7 +138,10 @@ def test_top_and_bottom_layers_are_solid(cube_plan):
             fill_types.setdefault(layer, set()).add(role)
     for k in range(s.bottom_layers):
         assert fill_types[k] == {"Solid infill"}, (k, fill_types[k])
-    for k in range(n - s.top_layers, n - 1):  # skin under the top surface: solid infill
+    # The skin's first layer over the sparse infill bridges it (PrusaSlicer's internal bridge),
+    # the next ones are solid infill, under the top surface.
+    assert fill_types[n - s.top_layers] == {"Bridge infill"}
+    for k in range(n - s.top_layers + 1, n - 1):
         assert fill_types[k] == {"Solid infill"}, (k, fill_types[k])
     assert fill_types[n - 1] == {"Top solid infill"}  # the surface itself, as PrusaSlicer types it
     for k in range(s.bottom_layers, n - s.top_layers):
@@ -192,11 +195,12 @@ def test_skins_are_found_by_mask_differences():
     k = 6  # 1.5 - 1.75 mm: the tower stands 2 layers above
     lp = pp.layers[k]
     kinds = np.array(lp.filling_kinds)
-    assert {"solid", "sparse"} <= set(kinds)  # skin, under the slab's top surface (layer 7)
-    assert "top" in pp.layers[7].filling_kinds and "top" not in kinds
+    # Skin under the slab's top surface (layer 7): its first layer, over sparse infill, a bridge.
+    assert {"bridge", "sparse"} <= set(kinds) and "top" not in kinds
+    assert "top" in pp.layers[7].filling_kinds
     for q, kind in zip(lp.filling_segments, kinds):
         line = shapely.LineString(q)
-        if kind in ("solid", "top"):
+        if kind in ("solid", "top", "bridge"):
             assert line.intersection(tower.buffer(-0.3)).length < 1e-6
         else:
             assert tower.buffer(0.3).covers(line)

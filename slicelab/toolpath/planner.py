@@ -181,7 +181,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     """
     from .overhangs import layer_overhangs, mark_overhangs
     from .paths import layer_paths
-    from .skins import layer_skins
+    from .skins import internal_bridge, layer_skins
     from .raster import rasterize
     from .simplify import simplify_paths
     from .skirt import skirt_loops, with_skirt
@@ -190,6 +190,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     masks = {j: (r.combined() if r.tiles else None) for j, r in rasters.items()}
     out = []
     pos = seam = None  # the nozzle, and the seam of the layer below (for aligned seams)
+    below_solid = layer_skins(first - 1, masks, s.skins, s.line_width)[0] if first > 0 else None
     for k in range(first, stop):  # over layers
         solid, top = layer_skins(k, masks, s.skins, s.line_width)
         ov = None
@@ -198,6 +199,11 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
                                  islands=rasters[k].tiles)
         parity = k % 2
         solid_angle = (s.infill_angle + 90.0 * parity) if s.solid_angle is None else s.solid_angle
+        bridges = list(ov.bridges) if ov else []
+        if s.infill_density < 1 and k > 0:  # a skin's first layer over sparse infill bridges it
+            inner = internal_bridge(solid, masks.get(k - 1), below_solid, s.line_width, solid_angle)
+            bridges += [inner] if inner is not None else []
+        below_solid = solid
         skirt = brim = ()
         if k == 0:
             skirt, brim = skirt_loops(sections[0], s.line_width, loops=s.skirt_loops, distance=s.skirt_distance,
@@ -207,7 +213,8 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
                 pos = (list(skirt) + list(brim))[-1][-1]
         lp = layer_paths(sections[k], s.line_width, s.n_perimeters, s.infill_density, s.infill_angle,
                          s.pixel_size, layer_index=k, rule=s.rule, overlap=s.infill_overlap, solid=solid,
-                         solid_angle=solid_angle, top=top, bridges=ov.bridges if ov else (), start=pos, raster=rasters[k], pattern=s.infill_pattern,
+                         solid_angle=solid_angle, top=top, bridges=bridges, start=pos, raster=rasters[k],
+                         pattern=s.infill_pattern,
                          resolution=s.gcode_resolution, seam=s.seam_position, seam_point=seam,
                          external_first=s.external_perimeters_first)
         outer = [q for kind, q, _ in lp.rows({"external"})]
@@ -314,7 +321,7 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
 
     def job(a, b):
         """The arguments of run a..b-1: its layers and the neighbours its skins look at."""
-        lo, hi = max(0, a - s.bottom_layers), min(n, b + s.top_layers)
+        lo, hi = max(0, a - s.bottom_layers - 1), min(n, b + s.top_layers)  # (the skins of a - 1 too)
         return a, b, n, {j: sections[j] for j in range(lo, hi)}, z_tops[a:b], s
 
     results = []

@@ -14,9 +14,10 @@ slicelab.toolpath.paths.layer_paths : fills them solid (``solid``) and types the
 from __future__ import annotations
 
 from .masks import open_mask
+from .overhangs import Bridge
 from .settings import Skins
 
-__all__ = ["layer_skins"]
+__all__ = ["layer_skins", "internal_bridge"]
 
 
 def layer_skins(k: int, masks: dict, skins: Skins, line_width: float):
@@ -77,3 +78,47 @@ def layer_skins(k: int, masks: dict, skins: Skins, line_width: float):
     above = masks.get(k + 1)
     exposed = top if above is None else top - above
     return open_mask(skin, radius), (open_mask(exposed, radius) if exposed.area > 0 else None)
+
+
+def internal_bridge(solid, below, below_solid, line_width: float, angle: float):
+    """The part of a layer's skin laid over the sparse infill of the layer below, as a `Bridge`.
+
+    A skin's first layer over sparse infill spans the gaps between its lines: it is printed
+    as a bridge (PrusaSlicer's internal bridge), across the layer's solid angle.
+
+    Parameters
+    ----------
+    solid : mask or None
+        The layer's skin (`layer_skins`).
+    below : mask or None
+        The material of the layer below.
+    below_solid : mask or None
+        The skin of the layer below (solid there: nothing to bridge).
+    line_width : float
+        Parts narrower than a line are left solid.
+    angle : float
+        Direction of the bridge's lines (degrees).
+
+    Returns
+    -------
+    Bridge or None
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from slicelab.toolpath.masks import GridMask
+    >>> slab = GridMask(np.ones((40, 40), bool), 0, 0, 0.1)
+    >>> half = GridMask(np.ones((40, 20), bool), 0, 0, 0.1)      # skin below, on the left half
+    >>> b = internal_bridge(slab, slab, half, 0.4, 45.0)
+    >>> round(b.mask.area, 1), b.angle                           # the right half bridges infill
+    (8.0, 45.0)
+    """
+    if solid is None or below is None:
+        return None
+    over = solid & below
+    if below_solid is not None:
+        over = over - below_solid
+    if over.area == 0:
+        return None
+    kept = open_mask(over, max(1, int(round(0.5 * line_width / solid.pixel_size))))
+    return None if kept is None else Bridge(kept, float(angle), 0.0)
