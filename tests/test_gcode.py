@@ -303,13 +303,14 @@ def test_fan_defaults_and_no_fan(tmp_path):
 
 def test_quick_layers_are_slowed_and_cooled_more(tmp_path):
     # A 6 mm square tower: each layer prints in about a second at full speed.
-    s = PrintSettings(**FAST, fan_speed=30, min_layer_time=8, fan_below_layer_time=30, min_print_speed=2)
+    s = PrintSettings(**FAST, fan_speed=30, min_layer_time=8, fan_below_layer_time=30, min_print_speed=2,
+                      small_perimeter_speed=100)  # (its small loops at their own speeds: layer time alone)
     pp = plan(box((0, 0, 0), (6, 6, 2.4)), s, workers=1)
     totals = write_gcode(pp, tmp_path / "t.gcode")
     seconds = totals["layer_seconds"]
     assert all(t >= 0.97 * s.min_layer_time for t in seconds[1:]), seconds
-    first = write_gcode(plan(box((0, 0, 0), (6, 6, 2.4)), PrintSettings(**FAST, min_layer_time=0), workers=1),
-                        tmp_path / "f.gcode")
+    fast = PrintSettings(**FAST, min_layer_time=0, small_perimeter_speed=100)
+    first = write_gcode(plan(box((0, 0, 0), (6, 6, 2.4)), fast, workers=1), tmp_path / "f.gcode")
     assert seconds[0] == pytest.approx(first["layer_seconds"][0])  # the first layer keeps its own speed
     text = (tmp_path / "t.gcode").read_text()
     assert "M106 S255" in text and "M106 S76" not in text  # full, never the plain 30 %
@@ -464,3 +465,6 @@ def test_hole_walls_are_their_own_kind_printed_as_external_perimeters(cube):
     layer = text[i:text.index(";LAYER:6\n")]
     assert layer.count(";TYPE:External perimeter") == 2
     assert f"F{60 * s.external_perimeter_speed:.0f}" in layer
+    # The hole's loops are small perimeters (shorter than a 6.5 mm circle): slowed to cool.
+    hole_block = [b for b in layer.split(";TYPE:")[1:] if b.startswith("External perimeter")][0]
+    assert f"G1 F{60 * s.small_perimeter_speed:.0f}" in hole_block

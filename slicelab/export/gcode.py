@@ -38,6 +38,10 @@ from .svg import SvgDrawing
 __all__ = ["write_gcode", "gcode_lines", "write_svgs", "layer_fan"]
 
 
+#: Perimeter loops shorter than this (mm), a circle of radius 6.5 mm, are small (PrusaSlicer's rule).
+SMALL_PERIMETER = 2 * math.pi * 6.5
+
+
 def _fmt(xy: np.ndarray, e: np.ndarray) -> str:
     # One %-format over the whole path: about twice as fast as a line at a time.
     return ("G1 X%.3f Y%.3f E%.5f\n" * len(e) % tuple(np.column_stack([xy, e]).ravel().tolist()))[:-1]
@@ -219,6 +223,9 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
         w = np.full(len(xy), width) if np.isscalar(width) else np.asarray(width)
         wm = 0.5 * (w[:-1] + w[1:])
         speed = s.first_layer_speed if k == 0 else speeds[kind]
+        if kind in ("external", "hole", "internal") and len(xy) > 3 and np.array_equal(path[0], path[-1]) \
+                and seg.sum() < SMALL_PERIMETER:
+            speed = min(speed, s.small_perimeter_speed)
         if factor < 1:
             speed = max(min(speed, s.min_print_speed), speed * factor)
         e = wm * h * seg * (k_e * s.bridge_flow_ratio if kind == "bridge" else k_e)
@@ -260,7 +267,7 @@ def write_gcode(plan, path) -> dict:
     >>> text = open(out).read(); text.count(";LAYER_CHANGE"), ";TYPE:External perimeter" in text
     (3, True)
     >>> text.splitlines()[-1], round(totals["seconds"])
-    ('; estimated printing time (normal mode) = 19s', 19)
+    ('; estimated printing time (normal mode) = 20s', 20)
     """
     totals: dict = {}
     with atomic_open(path, "w", encoding="utf-8") as fh:

@@ -98,7 +98,9 @@ class Supports:
 @dataclass(frozen=True)
 class Motion:
     """Speeds by extrusion kind and for travel (mm/s), retraction and lift (mm), and the
-    acceleration (mm/s^2) and jerk (mm/s) of the print-time estimate."""
+    acceleration (mm/s^2) and jerk (mm/s) of the print-time estimate. Perimeter loops shorter
+    than a 6.5 mm circle (PrusaSlicer's small perimeters) print at `small_perimeter_speed`, so that
+    a small feature has time to cool."""
 
     perimeter_speed: float = 40.0
     external_perimeter_speed: float = 25.0
@@ -106,6 +108,7 @@ class Motion:
     solid_infill_speed: float = 60.0
     top_solid_infill_speed: float = 40.0
     bridge_speed: float = 25.0
+    small_perimeter_speed: float = 15.0
     support_speed: float = 50.0
     gap_fill_speed: float = 20.0
     first_layer_speed: float = 20.0
@@ -260,7 +263,7 @@ class PrintSettings:
         from .patterns import PATTERNS
         positive = ("layer_height", "first_layer_height", "line_width", "nozzle_diameter", "filament_diameter",
                     "extrusion_multiplier", "perimeter_speed", "external_perimeter_speed", "infill_speed",
-                    "solid_infill_speed", "top_solid_infill_speed", "bridge_speed", "bridge_flow_ratio", "gap_fill_speed", "first_layer_speed", "travel_speed",
+                    "solid_infill_speed", "top_solid_infill_speed", "bridge_speed", "small_perimeter_speed", "bridge_flow_ratio", "gap_fill_speed", "first_layer_speed", "travel_speed",
                     "retraction_speed", "min_print_speed", "support_speed", "support_spacing",
                     "support_interface_spacing", "pixel_size", "acceleration", "jerk", "max_height")
         for name in positive:
