@@ -22,7 +22,8 @@ def cavity_volume(mesh) -> float:
     vertices (`slicelab.geometry.topology.shells`); each shell's signed
     volume is the divergence theorem's sum (corners taken about the mesh's
     centre); a negative one lying within the bounding box of a positive,
-    larger one is a cavity.
+    larger one is a cavity, less the positive shells within its box (solid
+    islands in the void).
 
     Parameters
     ----------
@@ -40,6 +41,9 @@ def cavity_volume(mesh) -> float:
     180.0
     >>> cavity_volume(box((0, 0, 0), (10, 10, 10)))
     0.0
+    >>> from slicelab.samples import nested_shells
+    >>> cavity_volume(nested_shells())  # a 24 mm cube of void round a 10 mm cube of solid
+    12824.0
     """
     tri = np.asarray(mesh.triangles, dtype=np.float64)
     if len(tri) == 0:
@@ -65,4 +69,8 @@ def cavity_volume(mesh) -> float:
     within = (lo[inner, None] >= lo[None, outer]).all(-1) & (hi[inner, None] <= hi[None, outer]).all(-1)
     within &= -shell_vol[inner, None] < shell_vol[None, outer]
     cavities = inner[within.any(axis=1)]
-    return float(-shell_vol[cavities].sum())
+    if not len(cavities):
+        return 0.0
+    # Solid islands inside a cavity (outward shells within its box) take their volume from the void.
+    island = (lo[outer, None] >= lo[None, cavities]).all(-1) & (hi[outer, None] <= hi[None, cavities]).all(-1)
+    return float(-shell_vol[cavities].sum() - shell_vol[outer[island.any(axis=1)]].sum())

@@ -308,9 +308,10 @@ class Profile:
     @cached_property
     def appendages(self) -> tuple:
         """Each handle, spout or lug measured (`slicelab.artefacts.appendages.Appendage`: angle, span,
-        height range, section at mid-height), largest first; empty for a sherd."""
-        if self.sherd is not None or self.mesh is None or len(self.halves) < 2:
-            return ()
+        height range, section at mid-height), largest first; empty for a sherd or a body that is not a
+        solid of revolution."""
+        if self.sherd is not None or self.mesh is None or len(self.halves) < 2 or not self.is_revolution:
+            return ()  # no body of revolution to stand out of
         from .appendages import find_appendages
         return find_appendages(self.mesh, self.halves, self.measurements.noise)
 
