@@ -235,6 +235,12 @@ def test_a_jugs_handle_is_measured_against_the_simulators_truth():
     assert h.thickness == pytest.approx(t["thickness"], abs=0.8) and h.width == pytest.approx(t["width"], abs=0.8)
     assert h.reach == pytest.approx(t["reach"], abs=0.8)
     assert p.to_dict()["appendages"] == [h.to_dict()]
+    # Drawn in the plane through it, on the exterior side: its outline reaches as far and as high.
+    drawn = np.vstack([it[1] for name, items in layout(p)["layers"] if name == "appendage" for it in items])
+    widest = float(np.hypot(p.mesh.triangles[..., 0], p.mesh.triangles[..., 1]).max())
+    assert drawn[:, 0].min() > 0 and drawn[:, 0].max() == pytest.approx(widest, abs=0.5)
+    assert drawn[:, 1].min() == pytest.approx(t["z_from"], abs=1.0) and drawn[:, 1].max() == pytest.approx(
+        t["z_to"], abs=1.0)
     # The body alone has none.
     pot, _ = samples.scan("pot", spacing=3.0, noise=0.05, seed=3)
     assert profile(pot, planes=4).appendages == ()

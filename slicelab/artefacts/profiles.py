@@ -361,7 +361,8 @@ class Profile:
 
         Layers (SVG groups with ids): ``axis`` (dash-dot), ``section`` (the
         drawn half filled black on `side`), ``exterior`` (outline on the other
-        side), ``rim`` (line across the mouth), ``spread`` (optional: every
+        side), ``rim`` (line across the mouth), ``appendage`` (each handle or
+        spout in the plane through it), ``spread`` (optional: every
         other half in grey), ``scale`` (bar in cm), ``label``.
 
         Parameters
