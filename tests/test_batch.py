@@ -25,7 +25,7 @@ EXPECTED = {  # file -> (status, reason codes) for the profile task
     "vessels/deep/cup.STL": ("ok", []),
     "cube.stl": ("warn", ["upside_down_risk", "not_revolution"]),  # no base, no rim: up from the centre of mass
     "open_pot.stl": ("warn", ["not_watertight"]),
-    "nested.stl": ("warn", ["several_shells", "upside_down_risk", "not_revolution"]),
+    "nested.stl": ("warn", ["several_shells", "upside_down_risk", "sealed", "not_revolution"]),
     "pot_in_metres.stl": ("warn", ["units?"]),
     "broken/truncated.stl": ("fail", ["unreadable"]),
     "broken/photo.stl": ("fail", ["unreadable"]),

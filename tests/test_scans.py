@@ -219,3 +219,43 @@ def test_the_cli_says_what_a_sherd_is_and_warns_in_sentences(tmp_path, capsys):
     assert line.split(" % of the rim")[0].endswith(f"{100 * truth['rim_fraction']:.0f}")
     assert "slicelab: warning: sherd: rim" in err and "no capacity" in err
     assert "nan" not in out.lower() and "nan" not in (tmp_path / "sherd.svg").read_text().lower()
+
+
+def test_a_jugs_handle_is_measured_against_the_simulators_truth():
+    jug, truth = samples.scan("jug", spacing=1.5, noise=0.12, seed=11)
+    p = profile(jug, planes=6)
+    (h,) = p.appendages
+    d = p.alignment.matrix[:3, :3] @ truth["handle_direction"]
+    gap = (h.angle - math.degrees(math.atan2(d[1], d[0]))) % 360
+    assert min(gap, 360 - gap) <= 2.0
+    t = truth["handle"]
+    assert h.span == pytest.approx(t["span"], abs=2.0)  # about 17.7 degrees where it leaves the body
+    assert h.z_from == pytest.approx(t["z_from"], abs=1.0) and h.z_to == pytest.approx(t["z_to"], abs=1.0)
+    # Its section at mid-height, widened by the noise on either face.
+    assert h.thickness == pytest.approx(t["thickness"], abs=0.8) and h.width == pytest.approx(t["width"], abs=0.8)
+    assert h.reach == pytest.approx(t["reach"], abs=0.8)
+    assert p.to_dict()["appendages"] == [h.to_dict()]
+    # Drawn in the plane through it, on the exterior side: its outline reaches as far and as high.
+    drawn = np.vstack([it[1] for name, items in layout(p)["layers"] if name == "appendage" for it in items])
+    widest = float(np.hypot(p.mesh.triangles[..., 0], p.mesh.triangles[..., 1]).max())
+    assert drawn[:, 0].min() > 0 and drawn[:, 0].max() == pytest.approx(widest, abs=0.5)
+    assert drawn[:, 1].min() == pytest.approx(t["z_from"], abs=1.0) and drawn[:, 1].max() == pytest.approx(
+        t["z_to"], abs=1.0)
+    # The body alone has none.
+    pot, _ = samples.scan("pot", spacing=3.0, noise=0.05, seed=3)
+    assert profile(pot, planes=4).appendages == ()
+
+
+def test_a_sealed_vessels_cavity_is_its_capacity(tmp_path):
+    sealed, capacity = samples.sealed_vessel("pot", lid=4.0, spacing=1.5, n_theta=256)
+    polygon = 1 - (2 * math.pi / 256) ** 2 / 6  # the revolved polygon's share of the true cavity
+    moved = sealed.transformed(samples.random_motion(np.random.default_rng(5), shift=100.0))
+    r, codes = _report(moved, tmp_path, "sealed")
+    assert r.results["sealed"] and "sealed" in codes and "inner cavity" in codes["sealed"]
+    assert rel(r.results["capacity"], capacity * polygon) <= 0.001
+    assert r.results["capacity"] < samples.vessel_truth("pot")["capacity"]  # the lid takes its share
+    assert json.loads((tmp_path / "sealed" / "profile.json").read_text())["sealed"] is True
+    # An open vessel is not sealed: its capacity is filled to the rim as before.
+    cup = samples.revolve([[0, 0], [40, 0], [40, 80], [37, 80], [37, 5], [0, 5]], 128)
+    p = profile(cup, planes=2)
+    assert not p.sealed and p.measurements.capacity > 0

@@ -9,6 +9,8 @@
 ``artefacts.outlines``      half-sections' outlines smoothed against noise, measured
 ``artefacts.profiles``      `profile`, `Profile`, `half_profiles`, `HalfProfile`
 ``artefacts.measure``       `Measurements`, `measure_halves`, Pappus volumes
+``artefacts.appendages``    handles, spouts and lugs found and measured
+``artefacts.cavities``      a sealed vessel's cavity shell and its volume
 ``artefacts.drawing``       the profile drawing (layout, SVG); PNG in `slicelab.viz`
 ==========================  =====================================================
 """
@@ -17,10 +19,10 @@ from __future__ import annotations
 from .._lazy import attach
 
 # Submodule of each public name: they load on first use (matplotlib and the like are slow to import).
-_WHERE = {"Alignment": "axis", "align": "axis", "rotation_to_z": "axis_fit", "surface_moments": "axis_fit", "principal_axis": "axis_fit", "normal_lines_axis": "axis_fit", "refine_axis": "axis_fit", "circle_pass": "axis_fit", "SurfaceSample": "axis_lines", "smoothed_normals": "axis_lines", "surface_noise": "axis_lines", "SherdReport": "sherds", "sherd_stance": "sherds", "half_outlines": "measure", "line_complex_axis": "axis_lines", "search_axis": "axis_search", "fit_axis_lines": "axis_lines", "AxisFit": "axis_lines", "angular_span": "axis_lines", "HalfProfile": "profiles", "half_profiles": "profiles", "Profile": "profiles", "profile": "profiles", "closing_gap": "profiles", "Measurements": "measure", "measure_halves": "measure", "pappus_volume": "measure", "clip_ring": "measure", "resample": "measure", "layout": "drawing", "profile_svg": "drawing"}
+_WHERE = {"Alignment": "axis", "align": "axis", "rotation_to_z": "axis_fit", "surface_moments": "axis_fit", "principal_axis": "axis_fit", "normal_lines_axis": "axis_fit", "refine_axis": "axis_fit", "circle_pass": "axis_fit", "SurfaceSample": "axis_lines", "smoothed_normals": "axis_lines", "surface_noise": "axis_lines", "SherdReport": "sherds", "sherd_stance": "sherds", "half_outlines": "measure", "line_complex_axis": "axis_lines", "search_axis": "axis_search", "fit_axis_lines": "axis_lines", "AxisFit": "axis_lines", "angular_span": "axis_lines", "HalfProfile": "profiles", "half_profiles": "profiles", "Profile": "profiles", "profile": "profiles", "closing_gap": "profiles", "Measurements": "measure", "measure_halves": "measure", "pappus_volume": "measure", "clip_ring": "measure", "resample": "measure", "layout": "drawing", "profile_svg": "drawing", "Appendage": "appendages", "find_appendages": "appendages", "cavity_volume": "cavities"}
 
 
-__all__ = ["Alignment", "align", "rotation_to_z", "surface_moments", "principal_axis", "normal_lines_axis", "refine_axis", "circle_pass", "SurfaceSample", "smoothed_normals", "surface_noise", "SherdReport", "sherd_stance", "half_outlines", "line_complex_axis", "search_axis", "fit_axis_lines", "AxisFit", "angular_span", "HalfProfile", "half_profiles", "Profile", "profile", "closing_gap", "Measurements", "measure_halves", "pappus_volume", "clip_ring", "resample", "layout", "profile_svg"]
+__all__ = ["Alignment", "align", "rotation_to_z", "surface_moments", "principal_axis", "normal_lines_axis", "refine_axis", "circle_pass", "SurfaceSample", "smoothed_normals", "surface_noise", "SherdReport", "sherd_stance", "half_outlines", "line_complex_axis", "search_axis", "fit_axis_lines", "AxisFit", "angular_span", "HalfProfile", "half_profiles", "Profile", "profile", "closing_gap", "Measurements", "measure_halves", "pappus_volume", "clip_ring", "resample", "layout", "profile_svg", "Appendage", "find_appendages", "cavity_volume"]
 
 
 __getattr__, __dir__ = attach(__name__, _WHERE, globals())

@@ -2,7 +2,8 @@
 
 Convention: a vertical axis line (dash-dot); on one side the section of the
 wall filled black; on the other the exterior outline; a rim line across the
-mouth; a scale bar in centimetres; a label with the main measurements. A
+mouth; a handle, spout or lug outlined in the plane through it, on the
+exterior side; a scale bar in centimetres; a label with the main measurements. A
 sherd is drawn in sherd position: its section only, the rim line to the
 reconstructed diameter dashed. The
 SVG here (`slicelab.export.SvgDrawing`) and the PNG (`slicelab.viz.profile_png`)
@@ -39,7 +40,8 @@ def layout(profile, *, side: str = "left", spread: bool = False, label: str | No
     -------
     dict
         ``page`` (x0, y0, x1, y1) and ``layers``: an ordered list of (id,
-        items); an item is ``("polygon", rings)``, ``("line", points, width, dash)``,
+        items) (layer ``appendage``, when there is one: each handle, spout or
+        lug outlined in the plane through it, on the exterior side); an item is ``("polygon", rings)``, ``("line", points, width, dash)``,
         ``("rect", x, y, w, h, fill)`` or ``("text", x, y, text, size, anchor)``.
 
     See Also
@@ -90,6 +92,10 @@ def layout(profile, *, side: str = "left", spread: bool = False, label: str | No
         rim_out = h.outer[0] if len(h.outer) else h.polygon[h.top]
         layers.append(("rim", [("line", np.array([[s * rim_in[0], rim_in[1]], [-s * rim_out[0], rim_out[1]]]),
                                 LINE, None)]))
+        handles = _appendage_lines(profile)
+        if handles:  # each handle, spout or lug in the plane through it, on the exterior side
+            layers.append(("appendage", [("line", mirror(x, -s), LINE, None) for x in handles]))
+            r_max = max(r_max, max(float(x[:, 0].max()) for x in handles))
     elif sherd.kind == "rim":
         # Sherd position: the section alone, nothing mirrored; the rim line across the mouth to the
         # reconstructed diameter is dashed.
@@ -117,6 +123,37 @@ def layout(profile, *, side: str = "left", spread: bool = False, label: str | No
                              for k, t in enumerate(lines)]))
     y0 = y_text - 1.5 * FONT * (len(lines) - 1) - margin
     return {"page": (x0, y0, x1, z_hi + margin), "layers": layers}
+
+
+def _appendage_lines(profile) -> list:
+    """Outlines (r, z) of each handle, spout or lug in the vertical plane through it, where they stand
+    outside the body (`slicelab.artefacts.appendages.body_radius`, noise margin as its measurement's)."""
+    import math
+
+    from .appendages import body_radius
+    from .measure import resample
+    from .profiles import half_profiles
+    parts = getattr(profile, "appendages", ())
+    if not parts or profile.mesh is None:
+        return []
+    z = np.concatenate([x.polygon[:, 1] for x in profile.halves])
+    edges, body = body_radius(profile.halves, float(z.min()), float(z.max()))
+    margin = max(1.0, 5 * profile.measurements.noise)
+    out = []
+    for ap in parts:  # a few appendages
+        a = math.radians(ap.angle)
+        halves = [x for x in half_profiles(profile.mesh, a)
+                  if abs((x.angle - a + math.pi) % (2 * math.pi) - math.pi) < 1e-6]
+        for ring in [r for x in halves for r in (x.polygon, *x.holes)]:
+            p = resample(np.vstack([ring, ring[:1]]), 0.25)[0][:-1]
+            k = np.clip(np.searchsorted(edges, p[:, 1]) - 1, 0, len(body) - 1)
+            away = p[:, 0] > body[k] + margin
+            if away.all() or not away.any():
+                continue
+            p, away = np.roll(p, -int(np.argmin(away)), axis=0), np.roll(away, -int(np.argmin(away)))
+            step = np.diff(np.concatenate([[0], away.astype(np.int8), [0]]))
+            out += [p[i:j] for i, j in zip(np.flatnonzero(step == 1), np.flatnonzero(step == -1)) if j - i > 1]
+    return out
 
 
 def _finite(d: dict) -> dict:

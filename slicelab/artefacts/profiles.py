@@ -11,7 +11,8 @@ rim line, scale bar, label; 1:1 in mm.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -233,6 +234,9 @@ class Profile:
     closed_gap : float
         For an open scan whose sections all stayed open (the rim top not captured): the gap
         (mm) they were closed across (`closing_gap`); 0 when `max_gap` sufficed.
+    sealed : bool
+        No mouth: the capacity is the volume of the mesh's inner cavity shell
+        (`slicelab.artefacts.cavities.cavity_volume`).
 
     See Also
     --------
@@ -251,6 +255,7 @@ class Profile:
     rim_tops: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
     max_radii: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
     closed_gap: float = 0.0
+    sealed: bool = False
 
     @property
     def is_revolution(self) -> bool:
@@ -293,33 +298,22 @@ class Profile:
 
     @property
     def appendage_angle(self) -> float | None:
-        """Angle (degrees, about the aligned axis) of a handle, spout or lug, or None.
-
-        The surface standing more than 3 mm (and 4 % of the radius) outside the
-        body's widest outline at its height (the halves' outlines, their
-        median per height) and holding over 0.3 % of the vertices, gathered
-        on one side (their mean direction at least 0.7 long), is an appendage.
-        """
+        """Angle (degrees, about the aligned axis) of a handle, spout or lug, or None
+        (`slicelab.artefacts.appendages.appendage_angle`: the surface clearly outside the body, on one side)."""
         if self.sherd is not None or self.mesh is None or len(self.halves) < 2:
             return None
-        v = self.mesh.triangles.reshape(-1, 3)[:: max(1, len(self.mesh) // 100_000)]
-        z = np.linspace(float(v[:, 2].min()), float(v[:, 2].max()), 201)
-        widest = np.zeros((len(self.halves), len(z) - 1))
-        for i, h in enumerate(self.halves):  # the body's widest radius per height band, per half
-            p = resample(np.vstack([h.polygon, h.polygon[:1]]), (z[1] - z[0]) / 2)[0]
-            k = np.clip(np.searchsorted(z, p[:, 1]) - 1, 0, len(z) - 2)
-            np.maximum.at(widest[i], k, p[:, 0])
-        body = np.median(widest, axis=0)
-        r = np.hypot(v[:, 0], v[:, 1])
-        k = np.clip(np.searchsorted(z, v[:, 2]) - 1, 0, len(z) - 2)
-        out = r > body[k] + max(3.0, 0.04 * float(body.max()))
-        if out.sum() < 0.003 * len(v):
-            return None
-        t = np.arctan2(v[out, 1], v[out, 0])
-        c, s = float(np.cos(t).mean()), float(np.sin(t).mean())
-        if math.hypot(c, s) < 0.7:  # not on one side
-            return None
-        return float(math.degrees(math.atan2(s, c)) % 360)
+        from .appendages import appendage_angle
+        return appendage_angle(self.mesh, self.halves)
+
+    @cached_property
+    def appendages(self) -> tuple:
+        """Each handle, spout or lug measured (`slicelab.artefacts.appendages.Appendage`: angle, span,
+        height range, section at mid-height), largest first; empty for a sherd or a body that is not a
+        solid of revolution."""
+        if self.sherd is not None or self.mesh is None or len(self.halves) < 2 or not self.is_revolution:
+            return ()  # no body of revolution to stand out of
+        from .appendages import find_appendages
+        return find_appendages(self.mesh, self.halves, self.measurements.noise)
 
     def _astray(self) -> np.ndarray:
         """Per half: does it stray far from the drawn one, or carry another polygon (a detached
@@ -354,7 +348,8 @@ class Profile:
                 "spread": self.spread.tolist(), "polygon": d.polygon.tolist(),
                 "outer": d.outer.tolist(), "inner": d.inner.tolist(),
                 "alignment": self.alignment.to_dict() if self.alignment else None,
-                "sherd": self.sherd.to_dict() if self.sherd is not None else None}
+                "sherd": self.sherd.to_dict() if self.sherd is not None else None,
+                "appendages": [x.to_dict() for x in self.appendages], "sealed": self.sealed}
 
     def svg(self, *, side: str = "left", spread: bool = False, label: str | None = None) -> str:
         """The profile drawing as SVG text, 1:1 in mm (see `to_svg`)."""
@@ -366,7 +361,8 @@ class Profile:
 
         Layers (SVG groups with ids): ``axis`` (dash-dot), ``section`` (the
         drawn half filled black on `side`), ``exterior`` (outline on the other
-        side), ``rim`` (line across the mouth), ``spread`` (optional: every
+        side), ``rim`` (line across the mouth), ``appendage`` (each handle or
+        spout in the plane through it), ``spread`` (optional: every
         other half in grey), ``scale`` (bar in cm), ``label``.
 
         Parameters
@@ -436,6 +432,8 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
     Returns
     -------
     Profile
+        A vessel without a mouth whose mesh holds an inner cavity shell (a sealed jar) gets that
+        cavity's volume as its capacity, and `Profile.sealed`.
 
     Raises
     ------
@@ -498,8 +496,14 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
     residual = alignment.residual if alignment is not None else float("nan")
     outs, noise = half_outlines(halves, height, alignment.noise if alignment is not None else None)
     m = measure_halves(halves, height, float(spread.max()), residual, noise, outs)
+    sealed = False
+    if not m.capacity > 1e-3 * m.clay_volume:  # no mouth: a sealed vessel's cavity is an inner shell
+        from .cavities import cavity_volume
+        void = cavity_volume(mesh)
+        if void > max(m.capacity, 0.0):
+            m, sealed = replace(m, capacity=void), True
     return Profile(tuple(halves), rep, spread, m, alignment, planes, name, mesh,
-                   np.array([o.z_top for o in outs]), np.array([o.max_r for o in outs]), closed_gap)
+                   np.array([o.z_top for o in outs]), np.array([o.max_r for o in outs]), closed_gap, sealed)
 
 
 def closing_gap(mesh: Mesh, angles, candidates=None, *, lowest: bool = False):

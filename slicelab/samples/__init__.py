@@ -30,11 +30,11 @@ from .solids import (
     torus,
     voxels,
 )
-from .vessels import FLOOR_COSINE, FORMS, handle_mesh, vessel_mesh, vessel_outlines, vessel_profile, vessel_truth, \
-    wall_thickness_samples
+from .vessels import FLOOR_COSINE, FORMS, handle_mesh, handle_truth, sealed_vessel, vessel_mesh, vessel_outlines, \
+    vessel_profile, vessel_truth, wall_thickness_samples
 
 __all__ = ["random_motion", "box", "revolve", "revolve_grid", "oriented", "torus", "sphere", "POT", "pot",
            "pot_profile", "pot_dimensions", "ring_prism", "cube_with_hole", "concat", "nested_shells",
            "overlapping_cubes", "figure_eight_prism", "voxels", "staircase",
            "FORMS", "vessel_outlines", "vessel_profile", "vessel_mesh", "vessel_truth", "handle_mesh",
-           "wall_thickness_samples", "FLOOR_COSINE", "SHERDS", "scan", "sherd_mesh"]
+           "handle_truth", "sealed_vessel", "wall_thickness_samples", "FLOOR_COSINE", "SHERDS", "scan", "sherd_mesh"]

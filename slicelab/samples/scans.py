@@ -22,7 +22,7 @@ import numpy as np
 
 from ..mesh.core import Mesh
 from .solids import random_motion
-from .vessels import FORMS, vessel_mesh, vessel_outlines, vessel_truth
+from .vessels import FORMS, handle_truth, vessel_mesh, vessel_outlines, vessel_truth
 
 __all__ = ["SHERDS", "sherd_mesh", "scan"]
 
@@ -198,7 +198,9 @@ def scan(form: str = "pot", *, spacing: float = 0.3, noise: float = 0.0, seed: i
         ``ovality`` (%), ``open_rim``, and the dimensions of `vessel_truth` (``height``,
         ``rim_diameter``, ``max_diameter``, ``base_diameter``, ``wall``,
         ``capacity``; None where a sherd does not contain them);
-        for the jug ``handle_direction`` (unit, in scan coordinates).
+        for the whole jug ``handle_direction`` (unit, in scan coordinates) and
+        ``handle`` (`slicelab.samples.handle_truth`: its span, height range and
+        section, in the vessel's frame; the oval distortion not applied).
 
     See Also
     --------
@@ -256,4 +258,5 @@ def scan(form: str = "pot", *, spacing: float = 0.3, noise: float = 0.0, seed: i
     truth.update(motion=motion, axis=motion[:3, :3] @ np.array([0.0, 0.0, 1.0]), origin=motion[:3, 3].copy())
     if form == "jug" and sherd is None:
         truth["handle_direction"] = motion[:3, :3] @ np.array([1.0, 0.0, 0.0])
+        truth["handle"] = handle_truth()
     return Mesh.from_vertices_faces(v, f), truth

@@ -30,7 +30,7 @@ import numpy as np
 from .solids import POT
 
 __all__ = ["FORMS", "vessel_outlines", "vessel_profile", "vessel_mesh", "vessel_truth", "handle_mesh",
-           "wall_thickness_samples", "FLOOR_COSINE"]
+           "handle_truth", "sealed_vessel", "wall_thickness_samples", "FLOOR_COSINE"]
 
 #: The vessel forms, tall to shallow; the jug is the pot-like body with a handle on its +x side.
 FORMS = ("pot", "beaker", "bowl", "plate", "jug")
@@ -207,6 +207,67 @@ def handle_mesh(spacing: float = 0.3):
     if float(np.einsum("ij,ij->", nrm, mid - axis_pts)) < 0:
         faces = faces[:, ::-1]
     return vertices, faces
+
+
+def handle_truth() -> dict:
+    """The jug's handle measured on a dense copy: the part of its surface outside the body.
+
+    Returns
+    -------
+    dict
+        ``angle`` (degrees about the axis; the handle is on +x), ``span``
+        (degrees), ``z_from``, ``z_to`` (mm), ``thickness`` (radial extent of
+        its section at mid-height, mm), ``width`` (across the radius, mm),
+        ``reach`` (how far it stands out of the body, mm).
+
+    Examples
+    --------
+    >>> t = handle_truth()
+    >>> t["angle"], t["thickness"], t["width"], round(t["z_from"], 1), round(t["z_to"], 1)
+    (0.0, 7.0, 14.0, 51.5, 108.5)
+    """
+    v, _ = handle_mesh(0.25)
+    r = np.hypot(v[:, 0], v[:, 1])
+    above = r - (_JUG["R0"] + _JUG["A"] * np.sin(np.pi * v[:, 2] / _JUG["L"]))
+    out = above > 0
+    t = np.degrees(np.arctan2(v[out, 1], v[out, 0]))
+    half_w, half_t = _JUG["handle"][3:]
+    return {"angle": 0.0, "span": float(t.max() - t.min()), "z_from": float(v[out, 2].min()),
+            "z_to": float(v[out, 2].max()), "thickness": 2 * half_t, "width": 2 * half_w,
+            "reach": float(above.max())}
+
+
+def sealed_vessel(form: str = "pot", lid: float = 4.0, spacing: float = 1.5, n_theta: int = 256):
+    """A vessel form closed at the rim by a lid `lid` mm thick: an outer solid and an inward cavity shell.
+
+    Returns
+    -------
+    mesh : Mesh
+        Two shells: the outer surface (normals out) and the cavity (normals into the void).
+    capacity : float
+        The cavity's volume (mm^3): the interior up to `lid` under the rim top, by Pappus' theorem
+        on the dense outline (the revolved mesh is smaller by its polygon's share, about
+        ``1 - (2 pi / n_theta)^2 / 6``).
+
+    Examples
+    --------
+    >>> mesh, cap = sealed_vessel("beaker", spacing=3.0, n_theta=64)
+    >>> round(cap / 1e6, 4)
+    0.3082
+    """
+    from .solids import revolve
+    outer, inner = vessel_outlines(form)
+    H = float(outer[-1, 1])
+    top = H - lid
+    inner = np.vstack([[[float(np.interp(top, inner[::-1, 1], inner[::-1, 0])), top]], inner[inner[:, 1] < top]])
+    cavity = np.vstack([inner[::-1], [[0.0, top]]])  # axis (floor) round to the axis (lid's underside)
+    solid = np.vstack([outer, [[0.0, H]]])
+    r, z = cavity[:, 0], cavity[:, 1] - cavity[:, 1].mean()
+    r1, z1 = np.roll(r, -1), np.roll(z, -1)
+    capacity = abs(float(2 * np.pi * ((r + r1) * (r * z1 - r1 * z)).sum() / 6.0))
+    void = revolve(_resample(cavity, spacing), n_theta)
+    body = revolve(_resample(solid, spacing), n_theta)
+    return type(body)(np.concatenate([body.triangles, void.triangles[:, ::-1]])), capacity
 
 
 def _revolve_even(profile: np.ndarray, spacing: float):

@@ -248,7 +248,8 @@ def _profile_report(pr, inp, p):
                "origin": None if a is None else a.origin.tolist(),
                "shape_residual": None if a is None else a.shape_residual,
                "span": None if a is None else a.span, "ovality": pr.ovality, "rim_drop": pr.rim_drop,
-               "appendage_angle": pr.appendage_angle, "closed_gap": pr.closed_gap,
+               "appendage_angle": pr.appendage_angle, "appendages": [x.to_dict() for x in pr.appendages],
+               "sealed": pr.sealed, "closed_gap": pr.closed_gap,
                "sherd": None if pr.sherd is None else pr.sherd.to_dict()}
     reasons = []
     sherd = pr.sherd
@@ -261,11 +262,16 @@ def _profile_report(pr, inp, p):
     elif a is not None and a.up_from == "centre of mass":
         reasons.append(reason("upside_down_risk", "neither a base crossing the axis nor an open rim was found: "
                                                   "up was taken from the centre of mass"))
-    angle = pr.appendage_angle
-    if angle is not None:
-        reasons.append(reason("handle_or_spout", f"a handle, spout or lug at {angle:.0f} degrees about the axis "
-                                                 f"(in the aligned frame): the half-sections through it are "
-                                                 f"left out of the diameters"))
+    angle, parts = pr.appendage_angle, pr.appendages
+    if angle is not None or parts:
+        where = f"at {angle:.0f} degrees about the axis " if angle is not None else ""
+        said = "; ".join(f"handle, spout or lug {x.sentence()}" for x in parts)
+        reasons.append(reason("handle_or_spout", f"a handle, spout or lug {where}(in the aligned frame): the "
+                                                 f"half-sections through it are left out of the diameters and "
+                                                 f"the wall" + (f"; {said}" if said else "")))
+    if pr.sealed:
+        reasons.append(reason("sealed", f"the vessel is sealed (no mouth): the capacity, "
+                                        f"{m.capacity / 1e6:.4g} l, is the volume of its inner cavity shell"))
     if sherd is None and len(pr.halves) < 2 * pr.planes:
         missing = 2 * pr.planes - len(pr.halves)
         reasons.append(reason("hole_in_wall", f"{missing // 2} of {pr.planes} planes through the axis cross a "
