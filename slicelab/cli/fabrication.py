@@ -35,9 +35,10 @@ DOCS = {
     },
     "slice": {
         "help": 'slice a part into printer G-code (perimeters, skins, infill)',
-        "description": 'Plan every layer of FILE (perimeters, solid top and bottom skins, sparse infill) on all '
-                       "cores and write Marlin G-code. Settings left out take slicelab.toolpath.PrintSettings' "
-                       'defaults.',
+        "description": 'Plan every layer of FILE (perimeters, solid top and bottom skins, bridges, sparse infill, '
+                       'supports with --support) on all cores and write Marlin G-code; overhangs left unheld and '
+                       "islands starting in mid-air are named in a warning. Settings left out take the printer "
+                       "profile's, the settings file's, then slicelab.toolpath.PrintSettings' defaults.",
     },
 }
 
