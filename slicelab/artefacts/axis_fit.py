@@ -10,7 +10,8 @@ chooses between them and moves the vessel.
    coordinates a facet's normal line is (n, p x n) and it meets the axis
    (a, c x a) when ``n . (c x a) + (p x n) . a = 0``, which is linear in the
    axis: the least-squares axis is the smallest eigenvector of a 6x6 problem
-   (a linear line complex, `normal_lines_axis`), after Pottmann and Wallner.
+   (a linear line complex, `line_complex_axis`; `normal_lines_axis` feeds it
+   the facets), after Pottmann and Wallner.
 3. Refinement (`refine_axis`): horizontal sections in the frame of the
    current axis are fitted with concentric circles (one shared centre per
    height, a radius per wall); a straight line through the centres is the new
@@ -30,7 +31,8 @@ import numpy as np
 from ..mesh.core import Mesh
 from ..slicing.sections import slice_layers
 
-__all__ = ["rotation_to_z", "surface_moments", "principal_axis", "normal_lines_axis", "circle_pass", "refine_axis"]
+__all__ = ["rotation_to_z", "surface_moments", "principal_axis", "normal_lines_axis", "line_complex_axis",
+           "tukey_weights", "circle_pass", "refine_axis"]
 
 
 def rotation_to_z(direction) -> np.ndarray:
@@ -193,30 +195,79 @@ def normal_lines_axis(triangles: np.ndarray, area: np.ndarray, centroid: np.ndar
     ([0.0, 0.0, 1.0], [0.0, 0.0])
     """
     t = triangles
-    p = (t.sum(axis=1) / 3.0 - centroid) / scale
     n = np.cross(t[:, 1] - t[:, 0], t[:, 2] - t[:, 0])
     length = np.sqrt(np.einsum("ij,ij->i", n, n))
     ok = length > 0
-    n = n[ok] / length[ok, None]
-    p, w = p[ok], area[ok]
+    # Facet centroids and unit normals, weighted by area: handles, spouts and lugs, whose normals
+    # miss the axis, lose their say in the line complex's reweighting.
+    return line_complex_axis(t[ok].sum(axis=1) / 3.0, n[ok] / length[ok, None], area[ok], centroid, scale)
+
+
+def line_complex_axis(points: np.ndarray, normals: np.ndarray, weights: np.ndarray, centroid: np.ndarray,
+                      scale: float, rounds: int = 4):
+    """The line that the normal lines ``(p, n)`` meet in the least-squares sense (a linear line complex).
+
+    In Plücker coordinates the normal line is ``(n, p x n)`` and it meets the
+    line ``(a, a_bar)`` when ``n . a_bar + (p x n) . a = 0``; minimising the
+    weighted squares over ``a_bar``, then over unit ``a``, is a 3 x 3
+    eigenproblem of a Schur complement. `rounds` rounds of Tukey's biweight
+    take the say from normals that miss the axis.
+
+    Parameters
+    ----------
+    points, normals : (n, 3) ndarray
+    weights : (n,) ndarray
+    centroid : (3,) ndarray
+        Coordinates are taken relative to it.
+    scale : float
+        A length of the surface's size, for a well-conditioned problem.
+    rounds : int
+
+    Returns
+    -------
+    point : (3,) ndarray
+        The point of the axis nearest to `centroid`.
+    direction : (3,) ndarray
+        Unit direction (either sense).
+
+    See Also
+    --------
+    slicelab.artefacts.normal_lines_axis : the same from a mesh's facets.
+    fit_axis_lines : the geometric refinement.
+    slicelab.artefacts.axis_search.search_axis : every direction tried, for sherds.
+
+    Examples
+    --------
+    >>> phi = np.linspace(0, 2, 50); z = np.linspace(0, 3, 50)
+    >>> p = np.column_stack([np.cos(phi) + 1, np.sin(phi), z]); n = np.column_stack([np.cos(phi), np.sin(phi), 0 * z])
+    >>> point, d = line_complex_axis(p, n, np.ones(50), p.mean(axis=0), 1.0)
+    >>> np.round(np.abs(d), 6).tolist(), (np.round(point[:2], 6) + 0.0).tolist()
+    ([0.0, 0.0, 1.0], [1.0, 0.0])
+    """
+    p = (points - centroid) / scale
+    n = normals
     lines = np.hstack([np.cross(p, n), n])  # residual = lines @ [a, a_bar]
-    wk = w
-    for _ in range(4):  # reweighted: handles, spouts and lugs, whose normals miss the axis, lose their say
+    wk = weights
+    for _ in range(rounds):  # reweighted: normals that miss the axis lose their say
         M = np.einsum("n,ni,nj->ij", wk, lines, lines)
         A, B, C = M[:3, :3], M[:3, 3:], M[3:, 3:]
-        # Minimise over a_bar for each a, then over unit a: a Schur complement eigenproblem.
         Cinv = np.linalg.pinv(C)
         S = A - B @ Cinv @ B.T
         _, vec = np.linalg.eigh((S + S.T) / 2)
         a = vec[:, 0]
         a_bar = -Cinv @ B.T @ a
-        wk = _tukey(lines @ np.concatenate([a, a_bar]), w, 1e-9)
-    point = np.cross(a, a_bar)  # foot of the axis line (direction a, moment a_bar) on the origin
-    return centroid + scale * point, a
+        wk = tukey_weights(lines @ np.concatenate([a, a_bar]), weights, 1e-9)
+    return centroid + scale * np.cross(a, a_bar), a
 
 
-def _tukey(e: np.ndarray, w: np.ndarray, floor: float) -> np.ndarray:
-    """Weights `w` times Tukey's biweight of residuals `e`: beyond 4.685 robust sigmas, no say."""
+def tukey_weights(e: np.ndarray, w: np.ndarray, floor: float) -> np.ndarray:
+    """Weights `w` times Tukey's biweight of residuals `e`: beyond 4.685 robust sigmas, no say.
+
+    Examples
+    --------
+    >>> tukey_weights(np.array([0.0, 1.0, 100.0]), np.ones(3), 1e-9).round(3).tolist()
+    [1.0, 0.959, 0.0]
+    """
     sigma = max(1.4826 * float(np.median(np.abs(e))), floor)
     u = e / (4.685 * sigma)
     return w * np.where(np.abs(u) < 1, (1 - u * u) ** 2, 0.0)
@@ -341,7 +392,7 @@ def _section_fits(t: np.ndarray, point: np.ndarray, direction: np.ndarray, n_pla
             sol = np.linalg.lstsq(A * sw[:, None], b * sw, rcond=None)[0]
             radius = np.sqrt(np.maximum(sol[2:] + sol[0] ** 2 + sol[1] ** 2, 0.0))
             e = np.hypot(p[:, 0] - sol[0], p[:, 1] - sol[1]) - radius[label]
-            wk = _tukey(e, w, 1e-9 * float(radius.mean()) + 1e-300)
+            wk = tukey_weights(e, w, 1e-9 * float(radius.mean()) + 1e-300)
         fits.append((h, sol[0], sol[1], wk.sum(), p, w, label, k, wk))
     return R, z0, z1, fits
 
@@ -404,7 +455,7 @@ def circle_pass(t: np.ndarray, point, direction, n_planes: int = 16, min_sectors
     for _ in range(0 if fixed else 3):  # reweighted over planes too: a height through a handle may still stray
         G = np.stack([np.ones_like(h), h], axis=1) * np.sqrt(Wk)[:, None]
         (x0, kx), (y0, ky) = (np.linalg.lstsq(G, c * np.sqrt(Wk), rcond=None)[0] for c in (cx, cy))
-        Wk = _tukey(np.hypot(cx - (x0 + kx * h), cy - (y0 + ky * h)), W, 1e-9 * (z1 - z0))
+        Wk = tukey_weights(np.hypot(cx - (x0 + kx * h), cy - (y0 + ky * h)), W, 1e-9 * (z1 - z0))
         if not Wk.sum() > 0:
             Wk = W
             break

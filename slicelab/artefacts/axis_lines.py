@@ -12,8 +12,9 @@ plane through that point. Three steps (`slicelab.artefacts.align` runs them):
    the noise averages out while the shape, a few millimetres across, stays.
    Smoothing follows the surface, not space: the inner and outer walls,
    4 mm apart, do not mix.
-2. `line_complex_axis`: the least-squares line the normal lines meet, linear
-   in Plücker coordinates (Pottmann and Wallner [1]_), as a start.
+2. `slicelab.artefacts.axis_fit.line_complex_axis`: the least-squares line the
+   normal lines meet, linear in Plücker coordinates (Pottmann and Wallner [1]_),
+   as a start.
 3. `fit_axis_lines`: Gauss-Newton on the geometric residual, the sine of the
    angle between a point's normal and its meridian plane, reweighted with
    Tukey's biweight [2]_ (handles, spouts and a sherd's breaks, whose normals
@@ -39,29 +40,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .axis_fit import rotation_to_z
+from .axis_fit import line_complex_axis, rotation_to_z, tukey_weights
 
-__all__ = ["SurfaceSample", "surface_noise", "smoothed_normals", "line_complex_axis", "fit_axis_lines", "AxisFit",
-           "angular_span", "tukey_weights"]
+__all__ = ["SurfaceSample", "surface_noise", "smoothed_normals", "fit_axis_lines", "AxisFit", "angular_span"]
 
 _REACH_PER_NOISE = 10.0    # smoothing reach, in noise standard deviations
 _LAPLACE_GAIN = 1.36       # noise sigma -> robust spread of the second difference on a scan's mesh
 _MAX_ROUNDS = 24           # averaging rounds at most
 _SAMPLE = 150_000          # vertices kept for fitting
 _SCAN_VERTICES = 200       # a mesh with fewer vertices is no scan: its corners are no noise
-
-
-def tukey_weights(e: np.ndarray, w: np.ndarray, floor: float) -> np.ndarray:
-    """Weights `w` times Tukey's biweight of residuals `e`: beyond 4.685 robust sigmas, no say.
-
-    Examples
-    --------
-    >>> tukey_weights(np.array([0.0, 1.0, 100.0]), np.ones(3), 1e-9).round(3).tolist()
-    [1.0, 0.959, 0.0]
-    """
-    sigma = max(1.4826 * float(np.median(np.abs(e))), floor)
-    u = e / (4.685 * sigma)
-    return w * np.where(np.abs(u) < 1, (1 - u * u) ** 2, 0.0)
 
 
 @dataclass(frozen=True, eq=False)
@@ -238,63 +225,6 @@ def smoothed_normals(triangles: np.ndarray, *, reach: float | None = None, sampl
         keep = keep[np.random.default_rng(seed).random(len(keep)) < sample / len(keep)]
     return SurfaceSample(v[keep], n[keep] / length[keep, None], area[keep], spacing, rounds,
                          len(keep) / max(nv, 1), noise)
-
-
-def line_complex_axis(points: np.ndarray, normals: np.ndarray, weights: np.ndarray, centroid: np.ndarray,
-                      scale: float, rounds: int = 4):
-    """The line that the normal lines ``(p, n)`` meet in the least-squares sense (a linear line complex).
-
-    In Plücker coordinates the normal line is ``(n, p x n)`` and it meets the
-    line ``(a, a_bar)`` when ``n . a_bar + (p x n) . a = 0``; minimising the
-    weighted squares over ``a_bar``, then over unit ``a``, is a 3 x 3
-    eigenproblem of a Schur complement. `rounds` rounds of Tukey's biweight
-    take the say from normals that miss the axis.
-
-    Parameters
-    ----------
-    points, normals : (n, 3) ndarray
-    weights : (n,) ndarray
-    centroid : (3,) ndarray
-        Coordinates are taken relative to it.
-    scale : float
-        A length of the surface's size, for a well-conditioned problem.
-    rounds : int
-
-    Returns
-    -------
-    point : (3,) ndarray
-        The point of the axis nearest to `centroid`.
-    direction : (3,) ndarray
-        Unit direction (either sense).
-
-    See Also
-    --------
-    slicelab.artefacts.normal_lines_axis : the same from a mesh's facets.
-    fit_axis_lines : the geometric refinement.
-    slicelab.artefacts.axis_search.search_axis : every direction tried, for sherds.
-
-    Examples
-    --------
-    >>> phi = np.linspace(0, 2, 50); z = np.linspace(0, 3, 50)
-    >>> p = np.column_stack([np.cos(phi) + 1, np.sin(phi), z]); n = np.column_stack([np.cos(phi), np.sin(phi), 0 * z])
-    >>> point, d = line_complex_axis(p, n, np.ones(50), p.mean(axis=0), 1.0)
-    >>> np.round(np.abs(d), 6).tolist(), (np.round(point[:2], 6) + 0.0).tolist()
-    ([0.0, 0.0, 1.0], [1.0, 0.0])
-    """
-    p = (points - centroid) / scale
-    n = normals
-    lines = np.hstack([np.cross(p, n), n])  # residual = lines @ [a, a_bar]
-    wk = weights
-    for _ in range(rounds):  # reweighted: normals that miss the axis lose their say
-        M = np.einsum("n,ni,nj->ij", wk, lines, lines)
-        A, B, C = M[:3, :3], M[:3, 3:], M[3:, 3:]
-        Cinv = np.linalg.pinv(C)
-        S = A - B @ Cinv @ B.T
-        _, vec = np.linalg.eigh((S + S.T) / 2)
-        a = vec[:, 0]
-        a_bar = -Cinv @ B.T @ a
-        wk = tukey_weights(lines @ np.concatenate([a, a_bar]), weights, 1e-9)
-    return centroid + scale * np.cross(a, a_bar), a
 
 
 @dataclass(frozen=True)
