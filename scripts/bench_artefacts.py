@@ -57,11 +57,16 @@ def _pct(value, truth) -> float:
     return 100 * (value / truth - 1) if truth and value == value else math.nan
 
 
-def whole_row(form: str, noise: float, spacing: float, seed: int):
-    mesh, truth = samples.scan(form, spacing=spacing, noise=noise, seed=seed)
+def _profiled(form: str, planes: int | None = None, **scan):
+    """A simulated scan with its truth, its profile, and the seconds the profile took."""
+    mesh, truth = samples.scan(form, **scan)
     t0 = time.perf_counter()
-    p = profile(mesh)
-    seconds = time.perf_counter() - t0
+    p = profile(mesh) if planes is None else profile(mesh, planes=planes)
+    return mesh, truth, p, time.perf_counter() - t0
+
+
+def whole_row(form: str, noise: float, spacing: float, seed: int):
+    mesh, truth, p, seconds = _profiled(form, spacing=spacing, noise=noise, seed=seed)
     m = p.measurements
     axis = _angle(p.alignment.axis, truth["axis"])
     err = {k: _pct(getattr(m, mk), truth[k]) for k, mk in (
@@ -76,10 +81,7 @@ def whole_row(form: str, noise: float, spacing: float, seed: int):
 
 
 def sherd_row(form: str, noise: float, spacing: float, seed: int, span: float):
-    mesh, truth = samples.scan(form, spacing=spacing, noise=noise, seed=seed, sherd="rim", span=span)
-    t0 = time.perf_counter()
-    p = profile(mesh, planes=6)
-    seconds = time.perf_counter() - t0
+    mesh, truth, p, seconds = _profiled(form, 6, spacing=spacing, noise=noise, seed=seed, sherd="rim", span=span)
     s = p.sherd
     axis = _angle(p.alignment.axis, truth["axis"])
     if s is None:
@@ -94,10 +96,7 @@ def sherd_row(form: str, noise: float, spacing: float, seed: int, span: float):
 
 def body_row(form: str, noise: float, spacing: float, seed: int, span: float):
     """A body sherd: no rim, no base; an honest answer is a refusal, or an axis that holds (either sense)."""
-    mesh, truth = samples.scan(form, spacing=spacing, noise=noise, seed=seed, sherd="body", span=span)
-    t0 = time.perf_counter()
-    p = profile(mesh, planes=6)
-    seconds = time.perf_counter() - t0
+    mesh, truth, p, seconds = _profiled(form, 6, spacing=spacing, noise=noise, seed=seed, sherd="body", span=span)
     s = p.sherd
     axis = _angle(p.alignment.axis, truth["axis"])
     axis = min(axis, 180 - axis)
