@@ -61,6 +61,17 @@ class _Window:
         q = np.asarray(xy, np.float64) / self.pixel_size
         return np.stack([q[..., 1] - self.row0, q[..., 0] - self.col0], -1)
 
+    def contains(self, xy) -> np.ndarray:
+        """The mask at points (mm): the pixel each lies in (its nearest pixel centre).
+
+        Examples
+        --------
+        >>> GridMask(np.array([[True, False]]), 0, 0, 1.0).contains([[0.2, 0.1], [1.4, 0.0], [5.0, 5.0]]).tolist()
+        [True, False, False]
+        """
+        q = np.rint(np.asarray(xy, np.float64).reshape(-1, 2) / self.pixel_size).astype(np.int64)
+        return self.at(q[:, 1], q[:, 0])
+
     def _check(self, other) -> None:
         if other.pixel_size != self.pixel_size:
             raise ValueError("masks on different pixel grids cannot be combined")
@@ -99,6 +110,16 @@ class GridMask(_Window):
     def area(self) -> float:
         """Material area counted in pixels (mm^2)."""
         return float(np.count_nonzero(self.mask)) * self.pixel_size ** 2
+
+    def at(self, rows, cols) -> np.ndarray:
+        """The mask at world pixels (row, col); False outside the window."""
+        r = np.asarray(rows, np.int64) - self.row0
+        c = np.asarray(cols, np.int64) - self.col0
+        h, w = self.shape
+        inside = (r >= 0) & (r < h) & (c >= 0) & (c < w)
+        out = np.zeros(r.shape, bool)
+        out[inside] = self.mask[r[inside], c[inside]]
+        return out
 
     def window(self, row0: int, col0: int, shape) -> np.ndarray:
         """This mask copied into another window of the same grid (False outside it).

@@ -30,7 +30,7 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .masks import BlockMask, GridMask, open_mask
+from .masks import GridMask, open_mask
 
 __all__ = ["Bridge", "LayerOverhangs", "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS"]
 
@@ -231,15 +231,8 @@ def mark_overhangs(paths, below):
     rows = [i for i, k in enumerate(paths.kind) if k in PERIMETER_KINDS]
     if not rows:
         return paths
-    p = below.pixel_size
     qs = [paths.paths[i] for i in rows]
-    mid = np.concatenate([0.5 * (q[1:] + q[:-1]) for q in qs]) / p
-    rr, cc = np.rint(mid[:, 1]).astype(np.int64), np.rint(mid[:, 0]).astype(np.int64)
-    if hasattr(below, "at"):
-        over = below.at(rr, cc)
-    else:
-        over = below.window(int(rr.min()), int(cc.min()), (int(rr.max() - rr.min()) + 1,
-                                                           int(cc.max() - cc.min()) + 1))[rr - rr.min(), cc - cc.min()]
+    over = below.contains(np.concatenate([0.5 * (q[1:] + q[:-1]) for q in qs]))
     if over.all():
         return paths
     hang = list(paths.hang) if paths.hang else [None] * len(paths.kind)

@@ -334,13 +334,7 @@ def _skin_kinds(paths: list, top) -> list:
     owner = np.repeat(np.arange(len(paths)), [max(len(q) - 1, 0) for q in paths])
     a = np.concatenate([q[:-1] for q in paths])
     b = np.concatenate([q[1:] for q in paths])
-    mid, length = 0.5 * (a + b) / top.pixel_size, np.hypot(*(b - a).T)
-    rows, cols = np.round(mid[:, 1]).astype(np.int64), np.round(mid[:, 0]).astype(np.int64)
-    if hasattr(top, "at"):
-        inside = top.at(rows, cols)
-    else:
-        r0, c0 = rows.min(), cols.min()
-        inside = top.window(r0, c0, (rows.max() - r0 + 1, cols.max() - c0 + 1))[rows - r0, cols - c0]
+    inside, length = top.contains(0.5 * (a + b)), np.hypot(*(b - a).T)
     on_top = np.bincount(owner, length * inside, len(paths))
     total = np.bincount(owner, length, len(paths))
     return ["top" if t > 0.5 * n else "solid" for t, n in zip(on_top, total)]
