@@ -21,7 +21,7 @@ from __future__ import annotations
 import math
 import os
 import sys
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -377,19 +377,8 @@ def _with_supports(layers: list, sections: list, unheld: list, s: PrintSettings)
                          spacing=s.support_spacing + s.line_width,
                          interface_spacing=s.support_interface_spacing + s.line_width, xy_gap=s.support_xy_gap,
                          z_gap_layers=s.support_z_gap_layers, interface_layers=s.support_interface_layers)
-    out = []
-    for lp, extra in zip(layers, rows):  # over layers
-        if not extra:
-            out.append(lp)
-            continue
-        first = sum(k in ("skirt", "brim") for k in lp.kind)
-        kind = lp.kind[:first] + tuple(k for k, _ in extra) + lp.kind[first:]
-        paths = lp.paths[:first] + tuple(q for _, q in extra) + lp.paths[first:]
-        widths = lp.widths[:first] + (lp.line_width,) * len(extra) + lp.widths[first:]
-        hang = (lp.hang[:first] + (None,) * len(extra) + lp.hang[first:]) if lp.hang else ()
-        travel = float(sum(np.hypot(*(b[0] - a[-1])) for a, b in zip(paths, paths[1:])))
-        out.append(replace(lp, kind=kind, paths=paths, widths=widths, hang=hang, travel_length=travel))
-    return out
+    return [lp.inserted(sum(k in ("skirt", "brim") for k in lp.kind), [(k, q, lp.line_width) for k, q in extra])
+            for lp, extra in zip(layers, rows)]  # over layers
 
 
 def _costliest_first(chunks: list, sections: list, s: PrintSettings) -> list:

@@ -17,7 +17,6 @@ slicelab.toolpath.roles : their ``;TYPE:Skirt/Brim`` in G-code.
 """
 from __future__ import annotations
 
-from dataclasses import replace
 
 import numpy as np
 
@@ -141,13 +140,5 @@ def with_skirt(paths, skirt: list, brim: list):
     >>> lp.kinds()[:3]
     ['skirt', 'internal', 'external']
     """
-    if not (skirt or brim):
-        return paths
     w = paths.line_width
-    rows = [("skirt", q, w) for q in skirt] + [("brim", q, w) for q in brim]
-    out = replace(paths, kind=tuple(r[0] for r in rows) + paths.kind, paths=tuple(r[1] for r in rows) + paths.paths,
-                  widths=tuple(r[2] for r in rows) + paths.widths,
-                  hang=((None,) * len(rows) + paths.hang) if paths.hang else ())
-    items = out.paths
-    travel = float(sum(np.hypot(*(b[0] - a[-1])) for a, b in zip(items, items[1:])))
-    return replace(out, travel_length=travel)
+    return paths.inserted(0, [("skirt", q, w) for q in skirt] + [("brim", q, w) for q in brim])

@@ -12,7 +12,7 @@ slicelab.toolpath.roles : the kinds and roles, their G-code words and colours.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -121,9 +121,25 @@ class LayerPaths:
             if kinds is None or k in kinds:
                 yield k, q, w
 
-    def role_of(self, kind: str) -> str:
-        """The role (`slicelab.toolpath.roles.ROLES`) of a kind: filling kinds are ``"filling"``."""
-        return ROLE_OF[kind]
+    def inserted(self, at: int, rows) -> "LayerPaths":
+        """The table with (kind, polyline, width) rows put before row `at`, the travel counted again.
+
+        Examples
+        --------
+        >>> lp = LayerPaths(("external",), (np.array([[0.0, 0], [1, 0], [1, 1], [0, 0]]),), (0.4,), 0.0, 0.4)
+        >>> more = lp.inserted(0, [("skirt", np.array([[5.0, 0], [5, 5]]), 0.4)])
+        >>> more.kind, round(more.travel_length, 3)
+        (('skirt', 'external'), 7.071)
+        """
+        rows = list(rows)
+        if not rows:
+            return self
+        paths = self.paths[:at] + tuple(r[1] for r in rows) + self.paths[at:]
+        travel = float(sum(np.hypot(*(b[0] - a[-1])) for a, b in zip(paths, paths[1:])))
+        return replace(self, kind=self.kind[:at] + tuple(r[0] for r in rows) + self.kind[at:], paths=paths,
+                       widths=self.widths[:at] + tuple(r[2] for r in rows) + self.widths[at:],
+                       hang=(self.hang[:at] + (None,) * len(rows) + self.hang[at:]) if self.hang else (),
+                       travel_length=travel)
 
     def role_list(self, role: str) -> list:
         """The paths of one role (one of `slicelab.toolpath.roles.ROLES`), in print order."""
@@ -141,7 +157,7 @@ class LayerPaths:
 
     @property
     def filling_segments(self) -> list:
-        """Polylines of the filling (sparse, solid and top skin)."""
+        """Polylines of the filling (sparse, solid, top skin and bridges)."""
         return self.role_list("filling")
 
     @property
