@@ -3,7 +3,7 @@ import numpy as np
 import pytest
 
 import slicelab
-from slicelab.toolpath.infill import fill_lines, rectilinear
+from slicelab.toolpath.infill import fill_lines
 from slicelab.geometry.polygons import Polygon
 from slicelab.toolpath.paths import coverage_map, covered_pixels, layer_paths
 from slicelab.toolpath.raster import GridMask

@@ -1,5 +1,4 @@
 """Whole-part planning and G-code (issue 6): the written G-code is parsed back and checked."""
-import re
 import subprocess
 import sys
 

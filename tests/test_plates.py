@@ -11,7 +11,7 @@ import pytest
 import shapely
 
 import slicelab
-from slicelab import Mesh, check
+from slicelab import check
 from slicelab.samples import box, concat, pot
 from slicelab.export import as_float32
 from slicelab.slicing import arrange, flat_faces, footprint

@@ -29,8 +29,8 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..mesh.core import Mesh
-from .axis_fit import circle_pass, rotation_to_z, surface_moments
-from .axis_lines import angular_span, fit_axis_lines, line_complex_axis, smoothed_normals
+from .axis_fit import circle_pass, line_complex_axis, rotation_to_z, surface_moments
+from .axis_lines import angular_span, fit_axis_lines, smoothed_normals
 from .axis_search import search_axis
 from .sherds import TRUSTED_AXIS, SherdReport, sherd_stance
 

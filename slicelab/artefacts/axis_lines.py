@@ -40,7 +40,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .axis_fit import line_complex_axis, rotation_to_z, tukey_weights
+from .axis_fit import rotation_to_z, tukey_weights
 
 __all__ = ["SurfaceSample", "surface_noise", "smoothed_normals", "fit_axis_lines", "AxisFit", "angular_span"]
 
@@ -262,7 +262,7 @@ class AxisFit:
 def _residuals(points, normals, point, R):
     q = np.einsum("ij,kj->ik", points - point, R)
     m = np.einsum("ij,kj->ik", normals, R)
-    x, y, z = q[:, 0], q[:, 1], q[:, 2]
+    x, y = q[:, 0], q[:, 1]
     r = np.hypot(x, y)
     F = -m[:, 0] * y + m[:, 1] * x
     return q, m, r, F

@@ -275,7 +275,6 @@ def arrange(pieces, build_volume, *, spacing: float = 5.0, rotate: bool = True, 
     >>> len(plates), plates.lower_bound, [len(p.pieces) for p in plates.plates]
     (2, 2, [4, 1])
     """
-    import shapely
     from shapely import affinity
     X, Y, Z = (float(v) for v in build_volume)
     if not all(v > 0 and math.isfinite(v) for v in (X, Y, Z)):

@@ -361,20 +361,6 @@ class PrintSettings:
 
 
 def settings_dict(s: PrintSettings) -> dict:
-    """The settings as a plain dict, field by field (for file headers).
-
-    Examples
-    --------
-    >>> d = settings_dict(PrintSettings())
-    >>> d["n_perimeters"], d["infill_density"]
-    (2, 0.2)
-    """
-    return asdict(s)
-
-
-
-
-def settings_dict(s: PrintSettings) -> dict:
     """The settings as a plain dict, field by field (for file headers and settings files).
 
     Examples
