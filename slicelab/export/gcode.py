@@ -118,10 +118,15 @@ def gcode_lines(plan, totals: dict | None = None):
         text, end, used = _layer_gcode(k, lp, h, s, off, moves, pos, 1.0)
         t = moves.seconds(s)
         factor = 1.0
-        for _ in range(4):  # travel and acceleration do not slow in step: a few rounds
+        for _ in range(4):  # travel and acceleration do not slow in step: a few rounds, moves only
             if k == 0 or t >= 0.99 * s.min_layer_time or factor * s.min_layer_time <= 0:
                 break
             factor *= t / s.min_layer_time
+            moves.pos, moves.start = start
+            moves.ends, moves.e, moves.feed = [], [], []
+            _, end, used = _layer_gcode(k, lp, h, s, off, moves, pos, factor, text=False)
+            t = moves.seconds(s)
+        if factor < 1:  # the text once, at the speed found
             moves.pos, moves.start = start
             moves.ends, moves.e, moves.feed = [], [], []
             text, end, used = _layer_gcode(k, lp, h, s, off, moves, pos, factor)
@@ -172,9 +177,10 @@ def layer_fan(k: int, seconds: float, s) -> int:
     return int(round(s.fan_speed + (100 - s.fan_speed) * share))
 
 
-def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: float):
+def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: float, text: bool = True):
     """One layer's moves as G-code text (without its header), the nozzle's end position and the
-    filament it uses; extrusion speeds times `factor` (not below `min_print_speed`).
+    filament it uses; extrusion speeds times `factor` (not below `min_print_speed`). With
+    ``text=False`` only the moves are added (for timing): the extrusions are not formatted.
 
     The layer's fan command is left as a marker where bridges change it back.
     """
@@ -230,7 +236,8 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
             speed = max(min(speed, s.min_print_speed), speed * factor)
         e = wm * h * seg * (k_e * s.bridge_flow_ratio if kind == "bridge" else k_e)
         out.append(f";WIDTH:{float(np.mean(wm)):.3f}\nG1 F{60 * speed:.0f}\n")
-        out.append(_fmt(xy[1:], e) + "\n")
+        if text:
+            out.append(_fmt(xy[1:], e) + "\n")
         moves.add(np.column_stack([xy[1:], np.full(len(xy) - 1, z)]), e, round(60 * speed) / 60)
         filament += float(np.round(e, 5).sum())
         pos = xy[-1]
