@@ -26,9 +26,10 @@ __all__ = ["LayerPaths"]
 class LayerPaths:
     """Toolpaths of one layer: a table with one row per path, in print order.
 
-    Each row is an extrusion: its kind (a key of `slicelab.toolpath.roles.STYLES`:
-    ``"skirt"``, ``"brim"``, ``"external"``, ``"internal"``, ``"gap_fill"``,
-    ``"sparse"``, ``"solid"``, ``"top"``), its polyline and its width. Row order
+    Each row is an extrusion: its kind (one of `slicelab.toolpath.roles.KINDS`:
+    skirt, brim, support and its interface, outer perimeter, hole wall, inner
+    perimeter, gap fill, sparse, solid, top and bridge infill), its polyline and
+    its width. Row order
     is print order. The lists of the slicer design (``external_contour_segments``,
     ``internal_contour_segments``, ``filling_segments``) and the others are
     views of the table, one per role (`slicelab.toolpath.roles.ROLES`).
