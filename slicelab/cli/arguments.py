@@ -15,7 +15,7 @@ import numpy as np
 from ..tasks.jobs import JOBS
 from ..tasks.spec import ParameterError
 
-__all__ = ["GIVEN", "FLAGS", "command", "finish", "UsageError", "vector", "positive", "density", "volume", "pair", "default",
+__all__ = ["GIVEN", "FLAGS", "command", "finish", "UsageError", "vector", "point", "positive", "density", "volume", "pair", "default",
            "options", "add_plane_arguments", "plane", "max_gap", "no_preview", "repair_flag",
            "negative_values", "warn", "say_repair", "timings", "flag_message", "say_plates"]
 
@@ -29,14 +29,28 @@ class UsageError(ValueError):
     """A command-line argument that makes no sense (exit status 2)."""
 
 
-def vector(text: str) -> np.ndarray:
+def _numbers(text: str, seps: str, count: int, unreadable: str, wrong: str, positive: bool = False) -> tuple:
+    """`count` finite numbers split at any of the characters `seps` (all above zero if `positive`);
+    the messages name the form expected."""
+    norm = text.lower()
+    for sep in seps[1:]:
+        norm = norm.replace(sep, seps[0])
     try:
-        values = [float(v) for v in text.split(",")]
+        values = tuple(float(v) for v in norm.split(seps[0]))
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected three numbers like 1,0,0, got {text!r}") from None
-    if len(values) != 3 or not np.all(np.isfinite(values)):
-        raise argparse.ArgumentTypeError(f"expected three finite numbers like 1,0,0, got {text!r}")
-    return np.array(values)
+        raise argparse.ArgumentTypeError(f"expected {unreadable}, got {text!r}") from None
+    if len(values) != count or not all(np.isfinite(v) and (v > 0 or not positive) for v in values):
+        raise argparse.ArgumentTypeError(f"expected {wrong}, got {text!r}")
+    return values
+
+
+def vector(text: str) -> np.ndarray:
+    return np.array(_numbers(text, ",", 3, "three numbers like 1,0,0", "three finite numbers like 1,0,0"))
+
+
+def point(text: str) -> tuple:
+    """A point X,Y in mm."""
+    return _numbers(text, ",", 2, "X,Y in mm like 125,105", "two finite numbers X,Y like 125,105")
 
 
 def positive(text: str) -> float:
@@ -61,24 +75,12 @@ def density(text: str) -> float:
 
 
 def volume(text: str) -> tuple:
-    parts = text.lower().replace(",", "x").split("x")
-    try:
-        values = tuple(float(v) for v in parts)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a build volume like 200x200x200, got {text!r}") from None
-    if len(values) != 3 or not all(np.isfinite(v) and v > 0 for v in values):
-        raise argparse.ArgumentTypeError(f"expected three positive sizes like 200x200x200, got {text!r}")
-    return values
+    return _numbers(text, "x,", 3, "a build volume like 200x200x200",
+                    "three positive sizes like 200x200x200", positive=True)
 
 
 def pair(text: str) -> tuple:
-    try:
-        values = tuple(float(v) for v in text.split(","))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected HEIGHT,DEPTH like 10,15, got {text!r}") from None
-    if len(values) != 2 or not all(np.isfinite(v) and v > 0 for v in values):
-        raise argparse.ArgumentTypeError(f"expected two positive sizes like 10,15, got {text!r}")
-    return values
+    return _numbers(text, ",", 2, "HEIGHT,DEPTH like 10,15", "two positive sizes like 10,15", positive=True)
 
 
 def default(job: str, name: str):

@@ -7,7 +7,7 @@ from pathlib import Path
 from ..tasks.jobs import run_job
 from .arguments import (
     command,
-    GIVEN, UsageError, add_plane_arguments, density, no_preview, options, pair, plane, positive,
+    GIVEN, UsageError, add_plane_arguments, density, no_preview, options, pair, plane, point, positive,
     repair_flag, say_plates, say_repair, timings, volume, warn,
 )
 
@@ -164,7 +164,7 @@ def _add_slice(sub) -> None:
                              ("--fan-below-layer-time", float, "S"), ("--min-print-speed", positive, "MM/S")):
         p.add_argument(flag, type=kind, default=GIVEN, metavar=meta)
     p.add_argument("--nozzle-diameter", type=positive, default=GIVEN, metavar="MM")
-    p.add_argument("--center", dest="bed_center", type=_xy, default=GIVEN, metavar="X,Y",
+    p.add_argument("--center", dest="bed_center", type=point, default=GIVEN, metavar="X,Y",
                    help="where the part's footprint is centred on the bed (default: the bed's middle)")
     p.add_argument("--support", choices=("off", "auto", "bed"), default=GIVEN,
                    help="support material under overhangs and mid-air islands: off (default; they are "
@@ -211,16 +211,6 @@ def _run_slice(args) -> int:
           + (f" and {args.preview_dir}/" if args.preview_dir is not None else ""))
     return 0
 
-
-
-def _xy(text: str) -> tuple:
-    """A point X,Y in mm (on the bed)."""
-    import argparse
-    try:
-        x, y = (float(v) for v in text.split(","))
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected X,Y in mm like 125,105, got {text!r}") from None
-    return x, y
 
 
 def _on_one_bed(args, params):
