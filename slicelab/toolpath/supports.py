@@ -29,6 +29,8 @@ import numpy as np
 
 from ..geometry.polygons import Polygon, signed_area
 from .infill import rectilinear
+from .masks import GridMask
+from .perimeters import level_polygons, mask_rings
 from .raster import draw_polylines, winding_numbers
 
 __all__ = ["PIXEL", "SUPPORTS", "support_masks", "support_paths"]
@@ -158,29 +160,9 @@ def support_masks(sections, unheld, *, mode: str = "auto", xy_gap: float = 0.6, 
 
 
 def _polygons(mask: np.ndarray, row0: int, col0: int, pixel: float, min_area: float) -> list[Polygon]:
-    """A mask's regions as polygons (mm), with their holes."""
-    import cv2
-    contours, hierarchy = cv2.findContours(mask.astype(np.uint8), cv2.RETR_CCOMP, cv2.CHAIN_APPROX_SIMPLE)
-    if hierarchy is None:
-        return []
-    h = hierarchy[0]
-    to_mm = lambda c: (c.reshape(-1, 2).astype(np.float64) + (col0, row0)) * pixel  # noqa: E731
-    out = []
-    for i, c in enumerate(contours):  # over the outer contours and their holes, few
-        if h[i, 3] >= 0 or len(c) < 3:
-            continue
-        ext = to_mm(c)
-        if abs(signed_area(ext)) < min_area:
-            continue
-        ext = ext if signed_area(ext) > 0 else ext[::-1]  # material on the left: outside counter-clockwise
-        holes, k = [], h[i, 2]
-        while k >= 0:  # over its holes
-            if len(contours[k]) >= 3:
-                hole = to_mm(contours[k])
-                holes.append(hole if signed_area(hole) < 0 else hole[::-1])
-            k = h[k, 0]
-        out.append(Polygon(ext, tuple(holes), 0))
-    return out
+    """A mask's regions as polygons (mm) with their holes, those under `min_area` left out."""
+    rings = mask_rings(GridMask(mask, row0, col0, pixel), mask)
+    return [q for q in level_polygons(rings) if abs(signed_area(q.exterior)) >= min_area]
 
 
 def support_paths(sections, unheld, *, mode: str = "auto", line_width: float = 0.4, spacing: float = 2.5,
