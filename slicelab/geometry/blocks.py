@@ -267,33 +267,15 @@ class BlockGrid:
 
     def _fill(self, out: np.ndarray, data: np.ndarray, h: int, empty, full) -> None:
         """Write block k and its halo into ``out[k // m, :, k % m, :]`` of a (rows, q, m, q) canvas."""
-        b, n = self.size, len(self)
+        from .kernels import fill_blocks
         if h < 0:
             raise ValueError(f"a halo must be >= 0 pixels, got {h}")
-        q = b + 2 * h
-        m = out.shape[2]
-        whole = n // m * m  # blocks in complete rows of the canvas
-        reach = -(-h // b)  # blocks the halo reaches into on each side
-
-        def span(d):  # rows of the packed block that block offset d fills, and its rows they take
-            lo, hi = max(h + d * b, 0), min(h + (d + 1) * b, q)
-            return slice(lo, hi), slice(lo - h - d * b, hi - h - d * b)
-
-        for dr in range(-reach, reach + 1):  # over the blocks the halo reaches, nine for a small halo
-            dst_r, src_r = span(dr)
-            for dc in range(-reach, reach + 1):
-                dst_c, src_c = span(dc)
-                if dr == dc == 0:
-                    part = data[:, src_r, src_c]
-                else:
-                    k = self.neighbours[dr + 1, dc + 1] if reach == 1 else self.neighbour(dr, dc)
-                    part = data[np.minimum(k, n - 1), src_r, src_c] if n else data[:, src_r, src_c]
-                    part[k == n], part[k == n + 1] = empty, full
-                # Complete rows of the canvas by one strided copy, the last row's blocks after.
-                out[:whole // m, dst_r, :, dst_c] = part[:whole].reshape(
-                    (whole // m, m) + part.shape[1:]).transpose(0, 2, 1, 3)
-                if whole < n:
-                    out[whole // m, dst_r, :n - whole, dst_c] = part[whole:].transpose(1, 0, 2)
+        if len(self) == 0:
+            return
+        data = np.ascontiguousarray(data)
+        # One compiled loop over the blocks and the neighbours their halos reach.
+        fill_blocks(out, data, h, data.dtype.type(empty), data.dtype.type(full), self.table, self.row0, self.col0,
+                    self.rows, self.cols)
 
     def assemble(self, data: np.ndarray, empty, full, row0: int, col0: int, shape) -> np.ndarray:
         """The values of a window of world pixels as one array (`sample` over the window)."""

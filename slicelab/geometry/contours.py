@@ -118,11 +118,13 @@ def march_blocks(image: np.ndarray, level: float, grid: BlockGrid) -> list[np.nd
     so every cell with a corner in it can be read from it. A cell is marched
     by one block only: the first active one among the blocks of its corners
     (upper left, upper right, lower left, lower right). A crossing is keyed
-    by its pixel edge in the block that holds the edge's first pixel, so the
-    segments of neighbouring blocks chain as if the grid were one array: the
-    same contours as `march` on the assembled grid, as long as every cell the
-    level crosses has a corner in an active block (true when no two uniform
-    blocks of different values touch).
+    by its pixel edge on the whole grid, so the segments of neighbouring
+    blocks chain as if the grid were one array: the same contours as `march`
+    on the assembled grid, as long as every cell the level crosses has a
+    corner in an active block (true when no two uniform blocks of different
+    values touch). The cells are marched and chained by two compiled loops
+    (`slicelab.geometry.kernels.march_cells`, `closed_cycles`); rings come in
+    the order of their lowest points.
 
     Parameters
     ----------
@@ -149,53 +151,21 @@ def march_blocks(image: np.ndarray, level: float, grid: BlockGrid) -> list[np.nd
     >>> sorted(map(tuple, ours[0])) == sorted(map(tuple, march(v, 0.5)[0]))
     True
     """
-    import cv2
+    from .kernels import closed_cycles, march_cells
     flat = np.asarray(image)
     if flat.dtype not in (np.float32, np.float64):
         flat = flat.astype(np.float64)
     n, b = len(grid), grid.size
-    q = b + 2
     if n == 0:
         return []
-    m = flat.shape[1] // q  # blocks per row of the mosaic
-    found = cv2.findNonZero(crossed_cells(flat, level))
-    if found is None:
-        return []
-    x, y = found.reshape(-1, 2).T.astype(np.int64)
-    k = (y // q) * m + x // q
-    r, c = y % q - 1, x % q - 1
-    nb = grid.neighbours
-    act = nb < n  # (3, 3, n): which neighbours are active
-    # Cells of the halo's first row and column belong to this block only when the blocks before
-    # it among the cell's corners are not active.
-    up, left = r < 0, c < 0
-    mine = (r < b) & (c < b) & (k < n)
-    k = np.minimum(k, n - 1)
-    mine &= ~(up & act[0, 1 + np.maximum(c, 0) // b, k])
-    mine &= ~(left & act[1 + np.maximum(r, 0) // b, 0, k])
-    mine &= ~(up & left & act[0, 0, k])
-    mine &= ~(up & (c == b - 1) & act[0, 2, k])
-    k, r, c, x, y = k[mine], r[mine], c[mine], x[mine], y[mine]
-    corners = (flat[y, x], flat[y, x + 1], flat[y + 1, x], flat[y + 1, x + 1])
-    # Keys of the block that holds each edge's first pixel, so that both cells beside an edge give
-    # it the same key; an edge whose first pixel lies in a uniform block is keyed by its place on
-    # the whole grid, after all of those.
+    m = flat.shape[1] // (b + 2)  # blocks per row of the mosaic
     rows0, cols0 = grid.origins()
-    width = grid.table.shape[1] * b + 4
-
-    def keyed(dr, dc, vert):
-        rows, cols = r + dr, c + dc
-        owner = nb[1 + rows // b, 1 + cols // b, k]
-        key = (owner * (b * b) + (rows % b) * b + cols % b) * 2 + vert
-        far = owner >= n
-        if far.any():
-            gr = rows0[k[far]] + rows[far] - grid.row0 * b + 1
-            gc = cols0[k[far]] + cols[far] - grid.col0 * b + 1
-            key[far] = 2 * (n * b * b + gr * width + gc) + vert
-        return key
-
-    start, end, pr, pc = _cell_segments(corners, level, rows0[k] + r, cols0[k] + c, keyed)
-    return _rings(start, end, pr, pc)
+    # Crossings are keyed by their pixel edge on the whole grid (with a pixel to spare around
+    # it), so the segments of neighbouring blocks chain as if the grid were one array.
+    start, end, points = march_cells(flat, float(level), b, m, grid.neighbours, rows0, cols0,
+                                     grid.row0 * b - 1, grid.col0 * b - 1, grid.table.shape[1] * b + 3)
+    ring_points, bounds = closed_cycles(start, end, points)
+    return [ring_points[bounds[i]:bounds[i + 1]] for i in range(len(bounds) - 1)]
 
 
 def _cell_segments(corners, level: float, r: np.ndarray, c: np.ndarray, key):

@@ -130,51 +130,52 @@ class SegmentIndex:
         self.half = float(0.5 * (length / k).max()) if len(seg) else 0.0
         self.tree = cKDTree(0.5 * (self.pa + self.pb)) if len(seg) else None
         self.lo, self.hi = seg.min(axis=1), seg.max(axis=1)
+        self._bucket_cache = None
 
-    def _near(self, q: np.ndarray, reach: float):
-        """Exact nearest segments of points within `reach` of one, from square buckets of side
-        `reach`: a segment is a candidate of every bucket its box, widened by `reach`, meets. A
-        point farther than `reach` from every candidate gets inf. None if candidates would be
-        too many (short segments): the k-d tree does better."""
+    def _buckets(self, reach: float):
+        """Square buckets of side `cell` (at least `reach`), each with the segments whose box,
+        widened by a cell, meets it: (cell, origin, width, height, sorted keys, owners), made
+        once for the reaches that share them (between a third of the side and the side), or
+        None if candidates would be too many (short segments): the k-d tree does better."""
+        cached = self._bucket_cache
+        if cached is not None and reach <= cached[0] <= 3 * reach:
+            return cached
         cell = float(reach)
         b0 = np.floor((self.lo - cell) / cell).astype(np.int64)
         b1 = np.floor((self.hi + cell) / cell).astype(np.int64)
-        qb = np.floor(q / cell).astype(np.int64)
-        origin = np.minimum(b0.min(axis=0), qb.min(axis=0))
-        width = int(max(b1[:, 0].max(), qb[:, 0].max()) - origin[0]) + 1
         per_seg = (b1[:, 0] - b0[:, 0] + 1) * (b1[:, 1] - b0[:, 1] + 1)
-        if per_seg.sum() > 64 * len(q) + 4096:
+        origin = b0.min(axis=0)
+        width = int(b1[:, 0].max() - origin[0]) + 1
+        height = int(b1[:, 1].max() - origin[1]) + 1
+        if per_seg.sum() > 64 * len(self.segments) + 4096:
             return None
         s_row, rows = expand_ranges(b0[:, 1], b1[:, 1] - b0[:, 1] + 1)
         j, cols = expand_ranges(b0[s_row, 0], (b1[:, 0] - b0[:, 0] + 1)[s_row])
         owner = s_row[j]
         key = (rows[j] - origin[1]) * width + (cols - origin[0])
         order = np.argsort(key, kind="stable")
-        key, owner = key[order], owner[order]
-        qk = (qb[:, 1] - origin[1]) * width + (qb[:, 0] - origin[0])
+        self._bucket_cache = (cell, origin, width, height, key[order], owner[order])
+        return self._bucket_cache
+
+    def _near(self, q: np.ndarray, reach: float):
+        """Exact nearest segments of points within `reach` of one, from the buckets (`_buckets`).
+        A point farther than `reach` from every candidate gets inf. None if the buckets would
+        hold too many candidates, or the points would get too many."""
+        buckets = self._buckets(reach)
+        if buckets is None:
+            return None
+        cell, origin, width, height, key, owner = buckets
+        qb = np.floor(q / cell).astype(np.int64) - origin
+        inside = (qb[:, 0] >= 0) & (qb[:, 0] < width) & (qb[:, 1] >= 0) & (qb[:, 1] < height)
+        # A point outside the buckets is farther than a cell from every segment: no candidates.
+        qk = np.where(inside, qb[:, 1] * width + qb[:, 0], -1)
         start = np.searchsorted(key, qk)
-        count = np.searchsorted(key, qk, side="right") - start
+        count = np.where(inside, np.searchsorted(key, qk, side="right") - start, 0)
         if count.sum() > 64 * len(q) + 4096:
             return None
-        pt, pair = expand_ranges(start, count)
-        seg = owner[pair]
-        ax, ay = self.segments[seg, 0, 0], self.segments[seg, 0, 1]
-        dx, dy = self.segments[seg, 1, 0] - ax, self.segments[seg, 1, 1] - ay
-        wx, wy = q[pt, 0] - ax, q[pt, 1] - ay
-        t = np.clip((wx * dx + wy * dy) / np.maximum(dx * dx + dy * dy, 1e-300), 0.0, 1.0)
-        ex, ey = wx - t * dx, wy - t * dy
-        e2 = ex * ex + ey * ey
-        dist = np.full(len(q), np.inf)
-        best = np.zeros(len(q), np.int64)
-        tt = np.zeros(len(q))
-        some = count > 0
-        if some.any():
-            # Pairs come grouped by point: each group's smallest, and the first pair reaching it.
-            low = np.minimum.reduceat(e2, (np.cumsum(count) - count)[some])
-            hit = np.flatnonzero(e2 == np.repeat(low, count[some]))
-            first = hit[np.concatenate([[True], pt[hit][1:] != pt[hit][:-1]])]
-            dist[pt[first]] = np.sqrt(e2[first])
-            best[pt[first]], tt[pt[first]] = seg[first], t[first]
+        from .kernels import nearest_in_buckets
+        # One compiled loop over each point's candidates: the first reaching the smallest wins.
+        dist, best, tt = nearest_in_buckets(q, start, count, owner, self.segments)
         far = dist > reach
         dist[far] = np.inf
         return dist, best, tt

@@ -10,11 +10,9 @@ lies within the tolerance of the result.
 The simplification is Douglas-Peucker's, with the distance to the chord
 *segment* (not to its infinite line, as OpenCV's ``approxPolyDP`` measures:
 that drops a path doubling back on itself), and it runs on every polyline of a
-layer at once: each round measures every undecided vertex against the chord of
-the interval it lies in, and splits every interval whose farthest vertex is
-beyond the tolerance at that vertex. The rounds are as many as the recursion's
-depth; no Python loop runs over vertices. A closed polyline (last point equal
-to the first) keeps its first point, the seam.
+layer at once, in one compiled loop (`slicelab.geometry.kernels.douglas_peucker`)
+that splits each interval at its farthest vertex, with an explicit stack. A
+closed polyline (last point equal to the first) keeps its first point, the seam.
 
 References
 ----------
@@ -31,16 +29,6 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["simplify_mask", "simplify_path", "simplify_paths", "simplify_rings"]
-
-
-def _segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Distance of points p to segments ab (row by row); a zero-length segment is a point."""
-    ab = b - a
-    den = np.einsum("ij,ij->i", ab, ab)
-    t = np.einsum("ij,ij->i", p - a, ab) / np.where(den > 0, den, 1.0)
-    t = np.clip(np.where(den > 0, t, 0.0), 0.0, 1.0)
-    d = p - a - t[:, None] * ab
-    return np.hypot(d[:, 0], d[:, 1])
 
 
 def simplify_mask(points: np.ndarray, keep: np.ndarray, tolerance: float) -> np.ndarray:
@@ -72,27 +60,9 @@ def simplify_mask(points: np.ndarray, keep: np.ndarray, tolerance: float) -> np.
     >>> simplify_mask(pts, ends, 0.05).astype(int).tolist()   # the point 3 mm back along the line stays
     [1, 0, 1, 1, 1, 1, 1]
     """
-    pts = np.asarray(points, np.float64)
-    keep = np.asarray(keep, bool).copy()
-    tol = float(tolerance)
-    undecided = np.flatnonzero(~keep)
-    while len(undecided):  # over the recursion's depth: every interval is split at once
-        kept = np.flatnonzero(keep)
-        right = np.searchsorted(kept, undecided)
-        a, b = kept[right - 1], kept[right]
-        d = _segment_distance(pts[undecided], pts[a], pts[b])
-        first = np.flatnonzero(np.r_[True, a[1:] != a[:-1]])  # undecided is sorted: intervals are runs
-        group = np.repeat(np.arange(len(first)), np.diff(np.r_[first, len(a)]))
-        far = np.maximum.reduceat(d, first)
-        split = far > tol
-        if not split.any():
-            break
-        # The first vertex of each splitting interval at its greatest distance.
-        at_max = np.flatnonzero((d == far[group]) & split[group])
-        _, where = np.unique(group[at_max], return_index=True)
-        keep[undecided[at_max[where]]] = True
-        undecided = undecided[split[group] & ~keep[undecided]]
-    return keep
+    from ..geometry.kernels import douglas_peucker
+    pts = np.ascontiguousarray(points, np.float64)
+    return douglas_peucker(pts, np.ascontiguousarray(keep, bool), float(tolerance))
 
 
 def simplify_paths(paths: list, tolerance: float, widths: list | None = None):

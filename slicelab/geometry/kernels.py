@@ -1,0 +1,392 @@
+"""Compiled loops for the per-layer hot paths: marching squares over blocks, chaining, halos, nearest segments.
+
+A layer's toolpaths take a few dozen passes over the pixels held along its
+boundary. Written with numpy, each pass is several array calls whose fixed
+cost (tens of microseconds each) adds up to most of a layer's time; these
+loops do each pass in one compiled call instead (numba, compiled on first use
+and cached on disk beside this file). Each kernel is a plain loop over its
+input, linear in it; the modules that call them (`slicelab.geometry.contours`,
+`slicelab.geometry.blocks`, `slicelab.geometry.spatial`) keep the interfaces
+and say what the results mean.
+
+See Also
+--------
+slicelab.geometry.contours.march_blocks : the contours these kernels trace.
+slicelab.geometry.blocks.BlockGrid.mosaic : the blocks and halos `fill_blocks` copies.
+slicelab.geometry.spatial.SegmentIndex.nearest : the distances `nearest_in_buckets` measures.
+
+References
+----------
+.. [1] S. K. Lam, A. Pitrou, S. Seibert, "Numba: a LLVM-based Python JIT
+   compiler", LLVM-HPC 2015.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+__all__ = ["march_cells", "closed_cycles", "fill_blocks", "nearest_in_buckets", "douglas_peucker"]
+
+# Block table values of uniform blocks (`slicelab.geometry.blocks`: EMPTY, FULL).
+_EMPTY = -1
+_FULL = -2
+
+
+@njit(cache=True, nogil=True)
+def _owned(r, c, b, nb, k, n):
+    """Whether block k marches the cell whose upper-left corner is its pixel (r, c), r, c >= -1.
+
+    A cell belongs to the first active block among those of its corners (upper left, upper
+    right, lower left, lower right), so that a cell on a seam is marched once.
+    """
+    if r >= 0 and c >= 0:
+        return True
+    if r < 0 and c < 0:
+        return nb[0, 0, k] >= n and nb[0, 1, k] >= n and nb[1, 0, k] >= n
+    if r < 0:
+        if nb[0, 1, k] < n:
+            return False
+        return not (c == b - 1 and nb[0, 2, k] < n)
+    return nb[1, 0, k] >= n
+
+
+@njit(cache=True, nogil=True)
+def march_cells(flat, level, b, m, nb, rows0, cols0, r_origin, c_origin, width):
+    """Marching-squares segments of the blocks laid side by side in `flat`, keyed by world pixel edge.
+
+    Parameters
+    ----------
+    flat : 2-D float ndarray
+        The n blocks (B x B) with a one-pixel halo, `m` per row (`BlockGrid.mosaic`).
+    level : float
+    b, m : int
+        Block size and blocks per row of the mosaic.
+    nb : (3, 3, n) int ndarray
+        Stack index of each block's neighbours, >= n if not active (`BlockGrid.neighbours`).
+    rows0, cols0 : (n,) int ndarray
+        World pixel of each block's first pixel.
+    r_origin, c_origin, width : int
+        The world pixel edge from (R, C) to its right (down) neighbour is keyed
+        ``2 ((R - r_origin) width + C - c_origin)`` (plus 1).
+
+    Returns
+    -------
+    start, end : (s,) int64 ndarray
+        Keys of the pixel edges each segment starts and ends on.
+    points : (s, 2) float64 ndarray
+        Each segment's start (row, col), interpolated along its pixel edge.
+
+    Segments keep the high side on their left; saddles join the high corners.
+    """
+    n = nb.shape[2]
+    q = b + 2
+    cap = max(1024, 4 * n * b)  # a contour crosses a block in about B cells: rarely exceeded
+    start = np.empty(cap, np.int64)
+    end = np.empty(cap, np.int64)
+    points = np.empty((cap, 2), np.float64)
+    s = 0
+    for k in range(n):
+        y0 = (k // m) * q
+        x0 = (k % m) * q
+        for i in range(b + 1):
+            for j in range(b + 1):
+                vu = np.float64(flat[y0 + i, x0 + j])
+                vr = np.float64(flat[y0 + i, x0 + j + 1])
+                vl = np.float64(flat[y0 + i + 1, x0 + j])
+                vw = np.float64(flat[y0 + i + 1, x0 + j + 1])
+                cu, cr, cl, cw = vu >= level, vr >= level, vl >= level, vw >= level
+                if cu == cr and cu == cl and cu == cw:
+                    continue
+                r, c = i - 1, j - 1
+                if not _owned(r, c, b, nb, k, n):
+                    continue
+                saddle = cu == cw and cr == cl
+                if s + 2 > cap:  # grow the buffers
+                    cap *= 2
+                    start = _grown(start, cap)
+                    end = _grown(end, cap)
+                    points = _grown(points, cap)
+                R, C = rows0[k] + r, cols0[k] + c
+                base = 2 * ((R - r_origin) * width + (C - c_origin))
+                # Edge keys: top, right, bottom, left.
+                keys = (base, base + 2 + 1, base + 2 * width, base + 1)
+                if saddle:
+                    if not cu:  # low upper left: left -> top, right -> bottom
+                        e0, f0, e1, f1 = 3, 0, 1, 2
+                    else:  # low upper right: top -> right, bottom -> left
+                        e0, f0, e1, f1 = 0, 1, 2, 3
+                    pairs = ((e0, f0), (e1, f1))
+                    npair = 2
+                else:
+                    # Walk the border counter-clockwise: leave the high side, come back.
+                    if cu and not cr:
+                        e0 = 0
+                    elif cr and not cw:
+                        e0 = 1
+                    elif cw and not cl:
+                        e0 = 2
+                    else:
+                        e0 = 3
+                    if not cu and cr:
+                        f0 = 0
+                    elif not cr and cw:
+                        f0 = 1
+                    elif not cw and cl:
+                        f0 = 2
+                    else:
+                        f0 = 3
+                    pairs = ((e0, f0), (e0, f0))
+                    npair = 1
+                for h in range(npair):
+                    e, f = pairs[h]
+                    start[s] = keys[e]
+                    end[s] = keys[f]
+                    # Along the start edge, from its first pixel to its second.
+                    if e == 0:
+                        a0, a1 = vu, vr
+                    elif e == 1:
+                        a0, a1 = vr, vw
+                    elif e == 2:
+                        a0, a1 = vl, vw
+                    else:
+                        a0, a1 = vu, vl
+                    t = (level - a0) / (a1 - a0)
+                    if e == 1 or e == 3:
+                        points[s, 0] = R + t
+                        points[s, 1] = C + (1.0 if e == 1 else 0.0)
+                    else:
+                        points[s, 0] = R + (1.0 if e == 2 else 0.0)
+                        points[s, 1] = C + t
+                    s += 1
+    return start[:s], end[:s], points[:s]
+
+
+@njit(cache=True, nogil=True)
+def _grown(a, cap):
+    out = np.empty((cap,) + a.shape[1:], a.dtype)
+    out[:len(a)] = a
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _slot(key, mask):
+    return (key ^ (key >> 17) ^ (key >> 31)) & mask
+
+
+@njit(cache=True, nogil=True)
+def closed_cycles(start, end, points):
+    """The closed chains of segments (one's end key is the next one's start key), as rings.
+
+    Keys must be met at most once as a start and once as an end (marching
+    squares' pixel edges). Open chains are dropped. Each ring starts at its
+    lowest point (smallest row, then column) and rings come in the order of
+    those points.
+
+    Returns
+    -------
+    ring_points : (k, 2) float64 ndarray
+        The rings' start points, ring after ring.
+    bounds : (r + 1,) int64 ndarray
+        Ring j is ``ring_points[bounds[j]:bounds[j + 1]]``.
+    """
+    m = len(start)
+    # Which segment starts at each key: an open-addressing hash table, linear probing.
+    size = 1
+    while size < 2 * m + 2:
+        size *= 2
+    mask = size - 1
+    slot_key = np.full(size, -1, np.int64)
+    slot_seg = np.empty(size, np.int64)
+    for i in range(m):
+        h = _slot(start[i], mask)
+        while slot_key[h] != -1:
+            h = (h + 1) & mask
+        slot_key[h] = start[i]
+        slot_seg[h] = i
+    nxt = np.full(m, -1, np.int64)
+    for i in range(m):
+        h = _slot(end[i], mask)
+        while slot_key[h] != -1:
+            if slot_key[h] == end[i]:
+                nxt[i] = slot_seg[h]
+                break
+            h = (h + 1) & mask
+    state = np.zeros(m, np.int8)  # 0 new, 1 on this walk, 2 done
+    cycle = np.empty(m, np.int64)
+    bounds = [0]
+    firsts = []
+    taken = 0
+    for i in range(m):
+        if state[i]:
+            continue
+        j = i
+        length = 0
+        closed = False
+        while True:
+            state[j] = 1
+            cycle[taken + length] = j
+            length += 1
+            j = nxt[j]
+            if j < 0:
+                break
+            if j == i:
+                closed = True
+                break
+            if state[j]:
+                break
+        for u in range(taken, taken + length):
+            state[cycle[u]] = 2
+        if not closed:
+            continue
+        # The ring from its lowest point.
+        low = taken
+        for u in range(taken + 1, taken + length):
+            a, z = points[cycle[u]], points[cycle[low]]
+            if a[0] < z[0] or (a[0] == z[0] and a[1] < z[1]):
+                low = u
+        firsts.append(low)
+        taken += length
+        bounds.append(taken)
+    nr = len(bounds) - 1
+    key = np.empty((nr, 2), np.float64)
+    for r in range(nr):
+        key[r] = points[cycle[firsts[r]]]
+    rank = np.argsort(key[:, 1], kind="mergesort")
+    rank = rank[np.argsort(key[rank, 0], kind="mergesort")]
+    out = np.empty((taken, 2), np.float64)
+    out_bounds = np.zeros(nr + 1, np.int64)
+    o = 0
+    for r in rank:
+        a, z = bounds[r], bounds[r + 1]
+        f = firsts[r]
+        for u in range(f, z):
+            out[o] = points[cycle[u]]
+            o += 1
+        for u in range(a, f):
+            out[o] = points[cycle[u]]
+            o += 1
+    for r in range(nr):
+        out_bounds[r + 1] = out_bounds[r] + bounds[rank[r] + 1] - bounds[rank[r]]
+    return out, out_bounds
+
+
+@njit(cache=True, nogil=True)
+def fill_blocks(out, data, h, empty, full, table, brow0, bcol0, rows, cols):
+    """Write each active block with a halo of `h` pixels of its neighbours into a (R, q, m, q) canvas.
+
+    Block k goes to ``out[k // m, :, k % m, :]`` (q = B + 2 h); a halo pixel
+    takes its neighbour's value, or `empty` / `full` for uniform blocks and
+    blocks outside `table` (empty). `table` holds stack indices or -1 / -2, its
+    ``[0, 0]`` at world block (brow0, bcol0); `rows`, `cols` are the active
+    blocks' world block indices.
+    """
+    n, b = data.shape[0], data.shape[1]
+    q = b + 2 * h
+    m = out.shape[2]
+    nr, nc = table.shape
+    reach = (h + b - 1) // b
+    for k in range(n):
+        ro, mo = k // m, k % m
+        for dr in range(-reach, reach + 1):
+            i_lo = max(h + dr * b, 0)
+            i_hi = min(h + (dr + 1) * b, q)
+            if i_hi <= i_lo:
+                continue
+            tr = rows[k] + dr - brow0
+            for dc in range(-reach, reach + 1):
+                j_lo = max(h + dc * b, 0)
+                j_hi = min(h + (dc + 1) * b, q)
+                if j_hi <= j_lo:
+                    continue
+                tc = cols[k] + dc - bcol0
+                src = _EMPTY
+                if 0 <= tr < nr and 0 <= tc < nc:
+                    src = table[tr, tc]
+                if src >= 0:
+                    for i in range(i_lo, i_hi):
+                        si = i - h - dr * b
+                        for j in range(j_lo, j_hi):
+                            out[ro, i, mo, j] = data[src, si, j - h - dc * b]
+                else:
+                    v = full if src == _FULL else empty
+                    for i in range(i_lo, i_hi):
+                        for j in range(j_lo, j_hi):
+                            out[ro, i, mo, j] = v
+
+
+@njit(cache=True, nogil=True)
+def nearest_in_buckets(q, first, count, owner, segments):
+    """Nearest of each point's candidate segments: distance, segment and parameter along it.
+
+    Point i's candidates are ``owner[first[i]:first[i] + count[i]]``; the
+    first candidate reaching the smallest distance wins. A point with no
+    candidate gets inf.
+    """
+    n = len(q)
+    dist = np.full(n, np.inf)
+    best = np.zeros(n, np.int64)
+    tt = np.zeros(n)
+    for i in range(n):
+        low = np.inf
+        px, py = q[i, 0], q[i, 1]
+        for u in range(first[i], first[i] + count[i]):
+            s = owner[u]
+            ax, ay = segments[s, 0, 0], segments[s, 0, 1]
+            dx, dy = segments[s, 1, 0] - ax, segments[s, 1, 1] - ay
+            wx, wy = px - ax, py - ay
+            t = (wx * dx + wy * dy) / max(dx * dx + dy * dy, 1e-300)
+            t = min(max(t, 0.0), 1.0)
+            ex, ey = wx - t * dx, wy - t * dy
+            e2 = ex * ex + ey * ey
+            if e2 < low:
+                low = e2
+                best[i] = s
+                tt[i] = t
+        if count[i] > 0:
+            dist[i] = np.sqrt(low)
+    return dist, best, tt
+
+
+@njit(cache=True, nogil=True)
+def douglas_peucker(points, keep, tolerance):
+    """Douglas-Peucker on concatenated polylines: `keep` with the vertices the simplification needs.
+
+    Between two consecutive kept vertices, the vertex farthest from their
+    chord *segment* (the first, on ties) is kept when it lies beyond
+    `tolerance`, recursively (an explicit stack, no recursion).
+    """
+    out = keep.copy()
+    n = len(points)
+    kept = np.flatnonzero(keep)
+    stack = np.empty((n + 1, 2), np.int64)
+    top = 0
+    for u in range(len(kept) - 1):
+        if kept[u + 1] - kept[u] > 1:
+            stack[top, 0] = kept[u]
+            stack[top, 1] = kept[u + 1]
+            top += 1
+    while top > 0:
+        top -= 1
+        a, b = stack[top, 0], stack[top, 1]
+        ax, ay = points[a, 0], points[a, 1]
+        dx, dy = points[b, 0] - ax, points[b, 1] - ay
+        den = dx * dx + dy * dy
+        far, at = -1.0, -1
+        for i in range(a + 1, b):
+            wx, wy = points[i, 0] - ax, points[i, 1] - ay
+            t = 0.0
+            if den > 0:
+                t = min(max((wx * dx + wy * dy) / den, 0.0), 1.0)
+            ex, ey = wx - t * dx, wy - t * dy
+            d = np.sqrt(ex * ex + ey * ey)
+            if d > far:
+                far, at = d, i
+        if far > tolerance:
+            out[at] = True
+            if at - a > 1:
+                stack[top, 0], stack[top, 1] = a, at
+                top += 1
+            if b - at > 1:
+                stack[top, 0], stack[top, 1] = at, b
+                top += 1
+    return out
