@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["march_cells", "closed_cycles", "fill_blocks", "nearest_in_buckets", "douglas_peucker"]
+__all__ = ["march_cells", "closed_cycles", "fill_blocks", "nearest_in_buckets", "douglas_peucker", "warm"]
 
 # Block table values of uniform blocks (`slicelab.geometry.blocks`: EMPTY, FULL).
 _EMPTY = -1
@@ -390,3 +390,29 @@ def douglas_peucker(points, keep, tolerance):
                 stack[top, 0], stack[top, 1] = at, b
                 top += 1
     return out
+
+
+def warm() -> None:
+    """Compile (or load from the disk cache) every kernel for the types the layers use.
+
+    Called once before a pool's workers fork, so that they inherit the
+    machine code instead of each compiling it (about ten seconds, once per
+    installation; later runs load it from the cache in a fraction of a second).
+
+    Examples
+    --------
+    >>> warm()
+    >>> len(march_cells.signatures) >= 2
+    True
+    """
+    i64 = np.zeros(1, np.int64)
+    nb = np.full((3, 3, 1), 1, np.int64)
+    for dtype in (np.float32, np.float64):
+        march_cells(np.zeros((3, 3), dtype), 0.5, 1, 1, nb, i64, i64, -1, -1, 4)
+    closed_cycles(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros((0, 2)))
+    table = np.zeros((1, 1), np.int64)
+    for dtype in (np.uint8, np.float32):
+        fill_blocks(np.zeros((1, 3, 1, 3), dtype), np.zeros((1, 1, 1), dtype), 1, dtype(0), dtype(1), table, 0, 0,
+                    i64, i64)
+    nearest_in_buckets(np.zeros((1, 2)), i64, i64, i64, np.zeros((1, 2, 2)))
+    douglas_peucker(np.zeros((2, 2)), np.ones(2, bool), 0.1)

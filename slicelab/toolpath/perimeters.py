@@ -29,7 +29,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from ..geometry.contours import march, march_blocks, simplify_ring
-from ..geometry.polygons import Polygon, build_polygons, loop_hierarchy, signed_area
+from ..geometry.polygons import Polygon, build_polygons, loop_hierarchy, points_in_ring, signed_area
 from ..geometry.spatial import SegmentIndex
 from .distance import distance_field, level_rings
 from .gapfill import disc, medial_fill, medial_fill_blocks, uncovered_blocks
@@ -233,6 +233,16 @@ def _opened(field, level: float, radius: float) -> np.ndarray:
     return region & (field.blocks >= level)
 
 
+def _one_island(loops: list) -> bool:
+    """Whether the loops are one outer loop (material on its left) and holes inside it."""
+    areas = np.array([signed_area(lp) for lp in loops])
+    if np.count_nonzero(areas > 0) != 1 or np.count_nonzero(areas == 0):
+        return False
+    outer = loops[int(np.argmax(areas))]
+    holes = [lp[0] for lp, a in zip(loops, areas) if a < 0]
+    return not holes or bool(points_in_ring(np.array(holes), outer).all())
+
+
 def _islands_missed(field, level: float) -> int:
     """Islands of a tile the level does not reach (too thin for a perimeter).
 
@@ -317,15 +327,18 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
     rings_by_level = [[] for _ in range(n_perimeters)]
     fill_rings, gaps, gap_w, fields = [], [], [], []
     thin = 0
-    for tile, segs in zip(raster.tiles, raster.segments):  # over tiles
+    for t, (tile, segs) in enumerate(zip(raster.tiles, raster.segments)):  # over tiles
         # Short pieces: fewer second rounds in the k-d tree; runs of pieces joined: fewer
         # candidates near each pixel.
         index = SegmentIndex(segs, 2 * p, join=True)
         # Only perimeter levels are refined: the filling limit needs no sub-pixel accuracy.
         fld = distance_field(tile, index, levels, depth=depth)
         fields.append(fld)
+        reached = False
         for k, level in enumerate(levels):  # over levels
-            rings_by_level[k] += level_rings(fld, level, tolerance=tol, index=index)
+            found = level_rings(fld, level, tolerance=tol, index=index)
+            rings_by_level[k] += found
+            reached |= k == 0 and len(found) > 0
         # The filling's region: its level set where the opening keeps it, the opening's edge
         # elsewhere (the field lowered below the level there), simplified to half a pixel. Its
         # mask is taken half a pixel lower, as its pixels' centres lie inside the level set.
@@ -336,7 +349,9 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
         g, gw = medial_fill_blocks(tile.blocks, unc, p, w, min_gap)
         gaps += g
         gap_w += gw
-        if n_perimeters:
+        # One island (an outer loop and holes in it) is reached if the first level has a ring.
+        if n_perimeters and not (reached and _one_island([raster.loops[i] for i in
+                                                           np.flatnonzero(raster.loop_tile == t)])):
             thin += _islands_missed(fld, float(levels[0]))
     solid_rings = []
     if solid is not None and fill_rings:

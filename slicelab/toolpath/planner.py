@@ -407,7 +407,9 @@ def _warm_imports() -> None:
     import shapely  # noqa: F401
     from skimage.morphology import skeletonize  # noqa: F401  (skimage loads it lazily, on first use)
 
+    from ..geometry.kernels import warm
     from . import distance, infill, paths, patterns, perimeters, raster, simplify, skirt  # noqa: F401
+    warm()  # the compiled kernels, loaded (or compiled, once) before the workers fork
 
 
 def _bar(total: int, progress: bool | None):
