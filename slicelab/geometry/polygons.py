@@ -24,9 +24,9 @@ def signed_area(points: np.ndarray) -> float:
     p = np.asarray(points, dtype=np.float64)
     if len(p) < 3:
         return 0.0
-    c = p.mean(axis=0)  # centring keeps the sum accurate far from the origin
-    x, y = (p - c).T
-    return float(0.5 * (np.dot(x, np.roll(y, -1)) - np.dot(np.roll(x, -1), y)))
+    q = p - p[0]  # from a vertex: keeps the sum accurate far from the origin, and its term is 0
+    x, y = q[:, 0], q[:, 1]
+    return float(0.5 * (np.dot(x[:-1], y[1:]) - np.dot(x[1:], y[:-1])))
 
 
 def loop_hierarchy(loops: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:

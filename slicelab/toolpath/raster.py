@@ -357,10 +357,16 @@ def _exposed(pieces, edges, tile) -> np.ndarray:
             t = (w[..., 0] * e[None, :, 1] - w[..., 1] * e[None, :, 0]) / den
             u = (w[..., 0] * d[:, None, 1] - w[..., 1] * d[:, None, 0]) / den
         hit = (den != 0) & (t > 0) & (t < 1) & (u >= 0) & (u <= 1)
-        for i in range(len(mixed)):  # over crossed pieces: few
-            ts = np.concatenate([[0.0], np.sort(t[i][hit[i]]), [1.0]])
-            parts = np.stack([a[i] + ts[:-1, None] * d[i], a[i] + ts[1:, None] * d[i]], axis=1)
-            out.append(parts[_bounding(parts, tile)])
+        # Every crossed piece cut at its crossings at once: row i holds 0, its crossings in
+        # order, then 1 (repeated where it has fewer crossings than the most crossed piece).
+        most = int(hit.sum(axis=1).max())
+        cuts = np.sort(np.where(hit, t, 1.0), axis=1)[:, :most]
+        ts = np.concatenate([np.zeros((len(mixed), 1)), cuts, np.ones((len(mixed), 1))], axis=1)
+        t0, t1 = ts[:, :-1], ts[:, 1:]
+        real = t1 > t0
+        rows = np.nonzero(real)[0]
+        parts = np.stack([a[rows] + t0[real][:, None] * d[rows], a[rows] + t1[real][:, None] * d[rows]], axis=1)
+        out.append(parts[_bounding(parts, tile)])
     return np.concatenate(out)
 
 
