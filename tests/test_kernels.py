@@ -1,0 +1,126 @@
+"""The compiled kernels against independent oracles: marching squares, halos, nearest segments, simplification."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from slicelab.geometry import contours
+from slicelab.geometry.blocks import EMPTY, FULL, BlockGrid
+from slicelab.geometry.kernels import closed_cycles, douglas_peucker
+from slicelab.geometry.spatial import SegmentIndex
+from slicelab.toolpath.simplify import simplify_paths
+
+
+def _field(seed: int, shape=(48, 56)) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    v = rng.normal(size=shape).cumsum(0).cumsum(1) * 0.02 + rng.normal(size=shape)
+    return v.astype(np.float32)
+
+
+@pytest.mark.parametrize("seed", [0, 1, 2])
+def test_march_blocks_gives_the_contours_of_the_whole_array(seed):
+    # Every block active: the blocks' contours, chained across seams, are skimage's contours
+    # of the assembled array (closed ones), point for point.
+    from skimage.measure import find_contours
+    b = 8
+    v = _field(seed)
+    level = float(np.median(v))
+    v[0, :] = v[-1, :] = v[:, 0] = v[:, -1] = level - 10  # every contour closes inside
+    g = BlockGrid(b, 2, -3, np.arange(6 * 7).reshape(6, 7))
+    data = np.stack([v[i * b:(i + 1) * b, j * b:(j + 1) * b] for i in range(6) for j in range(7)])
+    ours = contours.march_blocks(g.mosaic(data, 1, np.float32(level - 10), np.float32(level + 10)), level, g)
+    theirs = [c[:-1] for c in find_contours(v.astype(np.float64), level, fully_connected="high")]
+    assert len(ours) == len(theirs) > 20
+    origin = np.array([2 * b, -3 * b])
+    key = lambda r: tuple(np.round(np.sort(r, axis=0)[0], 9))  # noqa: E731
+    for a, t in zip(sorted(ours, key=key), sorted((c + origin for c in theirs), key=key)):
+        assert len(a) == len(t)
+        assert {tuple(x) for x in np.round(a, 6)} == {tuple(x) for x in np.round(t, 6)}
+
+
+def test_march_blocks_with_uniform_blocks_matches_the_assembled_grid():
+    # A ring-shaped band of active blocks between an empty outside and a full inside.
+    b = 8
+    yy, xx = np.mgrid[0:64, 0:64]
+    v = (20.0 - np.hypot(yy - 31.5, xx - 31.5)).astype(np.float32)  # distance to a circle of radius 20
+    table = np.full((8, 8), EMPTY)
+    full = np.zeros((8, 8), bool)
+    blocks = v.reshape(8, b, 8, b).transpose(0, 2, 1, 3)
+    lo, hi = blocks.min(axis=(2, 3)), blocks.max(axis=(2, 3))
+    active = (lo < 2.5) & (hi > -1.5)
+    full[(lo >= 2.5)] = True
+    table[full] = FULL
+    table[active] = np.arange(active.sum())
+    g = BlockGrid(b, 0, 0, table)
+    image = g.mosaic(blocks[active], 1, np.float32(-2), np.float32(3))
+    for level in (0.0, 0.5, 1.25):
+        ours = contours.march_blocks(image, level, g)
+        ref = contours.march(g.assemble(blocks[active], np.float32(-2), np.float32(3), 0, 0, (64, 64)), level)
+        assert len(ours) == len(ref) == 1
+        assert np.array_equal(ours[0], ref[0])
+        # The ring is the circle of radius 20 - level, within the interpolation's error.
+        r = np.hypot(ours[0][:, 0] - 31.5, ours[0][:, 1] - 31.5)
+        assert np.abs(r - (20 - level)).max() < 0.05
+
+
+def test_closed_cycles_drops_open_chains_and_orders_rings_by_lowest_point():
+    # Two cycles (keys 0->1->2->0 and 10->11->10) and an open chain 20->21->22.
+    start = np.array([21, 1, 10, 2, 0, 11, 20])
+    end = np.array([22, 2, 11, 0, 1, 10, 21])
+    pts = np.array([[9, 9], [5, 1], [0, 7], [5, 2], [4, 3], [1, 0], [9, 8]], float)
+    ring_points, bounds = closed_cycles(start, end, pts)
+    rings = [ring_points[bounds[i]:bounds[i + 1]].tolist() for i in range(len(bounds) - 1)]
+    assert rings == [[[0, 7], [1, 0]], [[4, 3], [5, 1], [5, 2]]]
+
+
+def test_fill_blocks_halo_is_the_neighbours_pixels():
+    # pack() on a grid with empty and full neighbours, checked pixel by pixel against the
+    # assembled grid read around each block.
+    rng = np.random.default_rng(3)
+    b, h = 4, 6  # the halo reaches two blocks away
+    table = np.array([[0, FULL, 1], [EMPTY, 2, 3], [4, FULL, EMPTY]])
+    g = BlockGrid(b, -1, 2, table)
+    data = rng.integers(0, 200, size=(5, b, b)).astype(np.uint8)
+    packed = g.pack(data, h, np.uint8(250), np.uint8(251))
+    big = g.assemble(data, np.uint8(250), np.uint8(251), (g.row0 - 3) * b, (g.col0 - 3) * b, (9 * b, 9 * b))
+    rows0, cols0 = g.origins()
+    for k in range(5):
+        r, c = rows0[k] - (g.row0 - 3) * b - h, cols0[k] - (g.col0 - 3) * b - h
+        assert np.array_equal(packed[k], big[r:r + b + 2 * h, c:c + b + 2 * h])
+
+
+def test_nearest_matches_brute_force():
+    rng = np.random.default_rng(4)
+    seg = rng.uniform(0, 20, size=(300, 2, 2))
+    q = rng.uniform(-2, 22, size=(2000, 2))
+    a, d = seg[:, 0], seg[:, 1] - seg[:, 0]
+    w = q[:, None] - a[None]
+    t = np.clip((w * d[None]).sum(-1) / (d * d).sum(-1)[None], 0, 1)
+    dist = np.hypot(*(w - t[..., None] * d[None]).transpose(2, 0, 1))
+    exact = dist.min(axis=1)
+    idx = SegmentIndex(seg, 1.0)
+    for reach in (0.5, 1.0, 2.5):  # the buckets are shared between reaches; answers are not
+        got, s, tt = idx.nearest(q, reach=reach)
+        np.testing.assert_allclose(got, exact, atol=1e-12)
+        np.testing.assert_allclose(dist[np.arange(len(q)), s], exact, atol=1e-12)
+
+
+def test_douglas_peucker_keeps_every_dropped_vertex_within_tolerance():
+    rng = np.random.default_rng(5)
+    path = np.cumsum(rng.normal(size=(3000, 2)) * 0.05, axis=0)
+    keep = np.zeros(len(path), bool)
+    keep[[0, 999, 1000, 2999]] = True  # two polylines, 0..999 and 1000..2999
+    tol = 0.05
+    out = douglas_peucker(path, keep, tol)
+    assert out[keep].all() and 20 < out.sum() < 2500
+    kept = np.flatnonzero(out)
+    for a, b in zip(kept[:-1], kept[1:]):
+        if a == 999:
+            continue
+        p, s, e = path[a + 1:b], path[a], path[b]
+        d = e - s
+        t = np.clip(((p - s) @ d) / max(d @ d, 1e-300), 0, 1)
+        assert np.hypot(*(p - s - t[:, None] * d).T).max(initial=0) <= tol + 1e-12
+    # and simplify_paths keeps the ends of each path
+    simple = simplify_paths([path[:1000], path[1000:]], tol)
+    assert np.array_equal(simple[0][[0, -1]], path[[0, 999]]) and np.array_equal(simple[1][[0, -1]], path[[1000, 2999]])
