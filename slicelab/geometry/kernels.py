@@ -118,23 +118,10 @@ def march_cells(flat, level, b, m, nb, rows0, cols0, r_origin, c_origin, width):
                     pairs = ((e0, f0), (e1, f1))
                     npair = 2
                 else:
-                    # Walk the border counter-clockwise: leave the high side, come back.
-                    if cu and not cr:
-                        e0 = 0
-                    elif cr and not cw:
-                        e0 = 1
-                    elif cw and not cl:
-                        e0 = 2
-                    else:
-                        e0 = 3
-                    if not cu and cr:
-                        f0 = 0
-                    elif not cr and cw:
-                        f0 = 1
-                    elif not cw and cl:
-                        f0 = 2
-                    else:
-                        f0 = 3
+                    # Walk the border counter-clockwise (top, right, bottom, left edges): the
+                    # segment starts where the walk leaves the high side and ends where it comes back.
+                    e0 = _first(cu and not cr, cr and not cw, cw and not cl)
+                    f0 = _first(cr and not cu, cw and not cr, cl and not cw)
                     pairs = ((e0, f0), (e0, f0))
                     npair = 1
                 for h in range(npair):
@@ -159,6 +146,12 @@ def march_cells(flat, level, b, m, nb, rows0, cols0, r_origin, c_origin, width):
                         points[s, 1] = C + t
                     s += 1
     return start[:s], end[:s], points[:s]
+
+
+@njit(cache=True, nogil=True)
+def _first(top, right, bottom):
+    """The first true edge of top (0), right (1), bottom (2), else left (3)."""
+    return 0 if top else (1 if right else (2 if bottom else 3))
 
 
 @njit(cache=True, nogil=True)
