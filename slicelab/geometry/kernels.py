@@ -264,6 +264,12 @@ def closed_cycles(start, end, points):
 
 
 @njit(cache=True, nogil=True)
+def _span(h, d, b, q):
+    """Rows (or columns) of a block's q-pixel window that its neighbour d blocks away fills."""
+    return max(h + d * b, 0), min(h + (d + 1) * b, q)
+
+
+@njit(cache=True, nogil=True)
 def fill_blocks(out, data, h, empty, full, table, brow0, bcol0, rows, cols):
     """Write each active block with a halo of `h` pixels of its neighbours into a (R, q, m, q) canvas.
 
@@ -281,14 +287,12 @@ def fill_blocks(out, data, h, empty, full, table, brow0, bcol0, rows, cols):
     for k in range(n):
         ro, mo = k // m, k % m
         for dr in range(-reach, reach + 1):
-            i_lo = max(h + dr * b, 0)
-            i_hi = min(h + (dr + 1) * b, q)
+            i_lo, i_hi = _span(h, dr, b, q)
             if i_hi <= i_lo:
                 continue
             tr = rows[k] + dr - brow0
             for dc in range(-reach, reach + 1):
-                j_lo = max(h + dc * b, 0)
-                j_hi = min(h + (dc + 1) * b, q)
+                j_lo, j_hi = _span(h, dc, b, q)
                 if j_hi <= j_lo:
                     continue
                 tc = cols[k] + dc - bcol0

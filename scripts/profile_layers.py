@@ -1,0 +1,69 @@
+"""Where a layer's time goes: 100 middle layers of a part planned in this process, timed, then profiled.
+
+The layers go through the planner's own per-run function (`slicelab.toolpath.planner`),
+runs of 20 layers with the neighbours their skins read, as a pool's worker gets them,
+with `slicelab slice`'s defaults and 3 top and bottom layers. Prints the milliseconds per
+layer (median of three passes, no profiler), then cProfile's functions by their own time
+and by cumulative time. No reference tool: this says where slicelab's time goes, and
+`scripts/bench_slice.py` compares the whole command with PrusaSlicer. Cost: linear in the
+layers profiled.
+
+    python scripts/profile_layers.py [MESH] [--top 35]
+"""
+from __future__ import annotations
+
+import argparse
+import cProfile
+import pstats
+import statistics
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def main() -> None:
+    import slicelab
+    from slicelab.slicing.sections import slice_layers
+    from slicelab.toolpath import planner
+    from slicelab.toolpath.settings import PrintSettings
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("mesh", nargs="?", default=str(ROOT / "data" / "pot.stl"))
+    ap.add_argument("--top", type=int, default=35)
+    args = ap.parse_args()
+    mesh = slicelab.load(args.mesh)
+    s = PrintSettings(top_layers=3, bottom_layers=3)
+    lo, hi = mesh.bounds
+    bounds = planner.layer_bounds(float(hi[2] - lo[2]), s.layer_height, s.first_layer_height)
+    sections = slice_layers(mesh, heights=lo[2] + bounds.mean(axis=1))
+    n = len(sections)
+    first = max(n // 4, s.bottom_layers + 1)
+    stop = min(first + 100, n - s.top_layers - 20)
+    runs = range(first, stop, 20)
+
+    def plan_runs():
+        for a in runs:
+            window = {j: sections[j] for j in range(max(0, a - s.bottom_layers - 1), min(n, a + 20 + s.top_layers))}
+            planner._run_chunk(a, a + 20, n, window, bounds[a:a + 20, 1], s)
+
+    plan_runs()  # imports, compiled kernels
+    layers = 20 * len(runs)
+    times = []
+    for _ in range(3):
+        t = time.perf_counter()
+        plan_runs()
+        times.append((time.perf_counter() - t) * 1000 / layers)
+    print(f"{Path(args.mesh).name}: {layers} layers from {first}: {statistics.median(times):.1f} ms per layer "
+          f"(median of 3, one process)")
+    prof = cProfile.Profile()
+    prof.enable()
+    plan_runs()
+    prof.disable()
+    st = pstats.Stats(prof)
+    st.sort_stats("tottime").print_stats(args.top)
+    st.sort_stats("cumtime").print_stats(r"slicelab", args.top)
+
+
+if __name__ == "__main__":
+    main()
