@@ -230,10 +230,10 @@ def _rings(start, end, pr, pc) -> list[np.ndarray]:
 def simplify_ring(ring: np.ndarray, tolerance: float) -> np.ndarray:
     """Douglas-Peucker simplification of a closed ring (implicitly closed), keeping original points.
 
-    The same algorithm as `skimage.measure.approximate_polygon`, run by OpenCV's
-    ``approxPolyDP`` (C++: about 50x faster on long contours) on coordinates
-    relative to the ring's first point, so float32 costs nothing measurable;
-    the kept vertices are then taken from the float64 input.
+    The ring is closed on its first point, which stays, and simplified by the
+    compiled loop `slicelab.geometry.kernels.douglas_peucker`, which measures
+    the distance to each chord *segment* (a ring doubling back on itself keeps
+    its turning point).
 
     Parameters
     ----------
@@ -244,11 +244,12 @@ def simplify_ring(ring: np.ndarray, tolerance: float) -> np.ndarray:
     Returns
     -------
     (m, 2) ndarray
-        A subset of `ring`'s rows, in order.
+        A subset of `ring`'s rows, in order, starting with its first.
 
     See Also
     --------
     march : the rings this simplifies.
+    slicelab.toolpath.simplify.simplify_rings : many rings at once.
 
     References
     ----------
@@ -263,15 +264,14 @@ def simplify_ring(ring: np.ndarray, tolerance: float) -> np.ndarray:
     >>> len(simplify_ring(ring, 0.05)) < 100, set(map(tuple, simplify_ring(ring, 0.05))) <= set(map(tuple, ring))
     (True, True)
     """
-    import cv2
+    from .kernels import douglas_peucker
+    ring = np.asarray(ring)
     if len(ring) < 4:
         return ring
-    local = (ring - ring[0]).astype(np.float32)
-    kept = cv2.approxPolyDP(local.reshape(-1, 1, 2), float(tolerance), True).reshape(-1, 2)
-    # approxPolyDP returns a subset of its input points: find them back by their exact bits.
-    keys = np.ascontiguousarray(local).view(np.int64).ravel()
-    mask = np.isin(keys, np.ascontiguousarray(kept).view(np.int64).ravel())
-    return ring[mask]
+    closed = np.ascontiguousarray(np.vstack([ring, ring[:1]]), np.float64)
+    keep = np.zeros(len(closed), bool)
+    keep[[0, -1]] = True
+    return ring[douglas_peucker(closed, keep, float(tolerance))[:-1]]
 
 
 def _pixels(skel) -> np.ndarray:

@@ -25,7 +25,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["march_cells", "closed_cycles", "fill_blocks", "nearest_in_buckets", "douglas_peucker", "warm"]
+__all__ = ["march_cells", "closed_cycles", "fill_blocks", "nearest_in_buckets", "band_distances", "douglas_peucker",
+           "warm"]
 
 # Block table values of uniform blocks (`slicelab.geometry.blocks`: EMPTY, FULL).
 _EMPTY = -1
@@ -345,6 +346,76 @@ def nearest_in_buckets(q, first, count, owner, segments):
 
 
 @njit(cache=True, nogil=True)
+def _bucket_distance(x, y, cell, ox, oy, width, height, start, owner, pieces):
+    """Distance from (x, y) to the nearest piece listed in its bucket (inf if none)."""
+    bx = int(np.floor(x / cell)) - ox
+    by = int(np.floor(y / cell)) - oy
+    if bx < 0 or bx >= width or by < 0 or by >= height:
+        return np.inf
+    key = by * width + bx
+    low = np.inf
+    for u in range(start[key], start[key + 1]):
+        s = owner[u]
+        ax, ay = pieces[s, 0, 0], pieces[s, 0, 1]
+        dx, dy = pieces[s, 1, 0] - ax, pieces[s, 1, 1] - ay
+        wx, wy = x - ax, y - ay
+        den = dx * dx + dy * dy
+        t = 0.0
+        if den > 0:
+            t = min(max((wx * dx + wy * dy) / den, 0.0), 1.0)
+        ex, ey = wx - t * dx, wy - t * dy
+        e2 = ex * ex + ey * ey
+        if e2 < low:
+            low = e2
+    return np.sqrt(low)
+
+
+@njit(cache=True, nogil=True)
+def band_distances(inside, rows0, cols0, p, deep, cell, ox, oy, width, height, start, owner, pieces):
+    """Exact distance from each material pixel's centre to the boundary, up to `deep`.
+
+    Parameters
+    ----------
+    inside : (n, B, B) bool ndarray
+        Material pixels of the active blocks.
+    rows0, cols0 : (n,) int64 ndarray
+        World pixel of each block's first pixel (centre at ``(col p, row p)``).
+    p, deep : float
+        Pixel size; the largest distance measured (mm), at most `cell`.
+    cell, ox, oy, width, height, start, owner, pieces
+        Square buckets of side `cell` (bucket (i, j) is ``(oy + i, ox + j)``
+        in cells): bucket q lists ``owner[start[q]:start[q + 1]]``, every piece
+        within a cell of it (`slicelab.geometry.spatial.SegmentIndex.piece_buckets`).
+
+    Returns
+    -------
+    values : (n, B, B) float32 ndarray
+        The distance (mm) in material, `deep` where it is farther, -p/2 outside.
+    exact : int
+        How many pixels hold a distance below `deep`.
+    """
+    n, b = inside.shape[0], inside.shape[1]
+    out = np.empty((n, b, b), np.float32)
+    outside = np.float32(-0.5 * p)
+    top = np.float32(deep)
+    exact = 0
+    for k in range(n):
+        for r in range(b):
+            y = (rows0[k] + r) * p
+            for c in range(b):
+                if not inside[k, r, c]:
+                    out[k, r, c] = outside
+                    continue
+                d = _bucket_distance((cols0[k] + c) * p, y, cell, ox, oy, width, height, start, owner, pieces)
+                if d < deep:
+                    out[k, r, c] = d
+                    exact += 1
+                else:
+                    out[k, r, c] = top
+    return out, exact
+
+
+@njit(cache=True, nogil=True)
 def douglas_peucker(points, keep, tolerance):
     """Douglas-Peucker on concatenated polylines: `keep` with the vertices the simplification needs.
 
@@ -412,4 +483,6 @@ def warm() -> None:
         fill_blocks(np.zeros((1, 3, 1, 3), dtype), np.zeros((1, 1, 1), dtype), 1, dtype(0), dtype(1), table, 0, 0,
                     i64, i64)
     nearest_in_buckets(np.zeros((1, 2)), i64, i64, i64, np.zeros((1, 2, 2)))
+    band_distances(np.ones((1, 1, 1), bool), i64, i64, 0.1, 1.0, 1.0, 0, 0, 1, 1, np.zeros(2, np.int64), i64,
+                   np.zeros((1, 2, 2)))
     douglas_peucker(np.zeros((2, 2)), np.ones(2, bool), 0.1)

@@ -157,6 +157,51 @@ class SegmentIndex:
         self._bucket_cache = (cell, origin, width, height, key[order], owner[order])
         return self._bucket_cache
 
+    def piece_buckets(self, cell: float):
+        """The segments cut into pieces no longer than `cell`, in square buckets of that side.
+
+        Every piece is listed in each bucket its box, widened by a cell,
+        meets (at most 4 x 4 buckets): a point's bucket then lists every piece
+        within `cell` of it. Made once per cell size.
+
+        Returns
+        -------
+        origin : (2,) int ndarray
+            Cell (x, y) of bucket (0, 0).
+        width, height : int
+        start : (width height + 1,) int ndarray
+            Bucket ``q = row width + col`` lists ``owner[start[q]:start[q + 1]]``.
+        owner : int ndarray
+            Indices into `pieces`.
+        pieces : (n, 2, 2) ndarray
+
+        Examples
+        --------
+        >>> idx = SegmentIndex(np.array([[[0, 0], [3, 0]]], float), 1.0)
+        >>> origin, w, h, start, owner, pieces = idx.piece_buckets(2.0)
+        >>> origin.tolist(), (w, h), len(pieces), int(start[-1])
+        ([-1, -1], (4, 3), 2, 21)
+        """
+        cached = getattr(self, "_piece_cache", None)
+        if cached is not None and cached[0] == cell:
+            return cached[1]
+        cell = float(cell)
+        pieces, _ = split_segments(self.segments, cell)
+        b0 = np.floor((pieces.min(axis=1) - cell) / cell).astype(np.int64)
+        b1 = np.floor((pieces.max(axis=1) + cell) / cell).astype(np.int64)
+        origin = b0.min(axis=0) if len(pieces) else np.zeros(2, np.int64)
+        width = int(b1[:, 0].max() - origin[0]) + 1 if len(pieces) else 1
+        height = int(b1[:, 1].max() - origin[1]) + 1 if len(pieces) else 1
+        s_row, rows = expand_ranges(b0[:, 1], b1[:, 1] - b0[:, 1] + 1)
+        j, cols = expand_ranges(b0[s_row, 0], (b1[:, 0] - b0[:, 0] + 1)[s_row])
+        owner = s_row[j]
+        key = (rows[j] - origin[1]) * width + (cols - origin[0])
+        order = np.argsort(key, kind="stable")
+        start = np.searchsorted(key[order], np.arange(width * height + 1))
+        out = (origin, width, height, start, owner[order], np.ascontiguousarray(pieces))
+        self._piece_cache = (cell, out)
+        return out
+
     def _near(self, q: np.ndarray, reach: float):
         """Exact nearest segments of points within `reach` of one, from the buckets (`_buckets`).
         A point farther than `reach` from every candidate gets inf. None if the buckets would

@@ -29,11 +29,12 @@ from functools import cached_property
 
 import numpy as np
 
-from ..geometry.contours import crossed_cells, march_blocks, simplify_ring
+from ..geometry.contours import march_blocks
 from ..geometry.polygons import signed_area
 from ..geometry.ragged import expand_ranges
 from ..geometry.spatial import SegmentIndex
 from .masks import BlockMask
+from .simplify import simplify_rings
 
 __all__ = ["DistanceField", "signed_mask_distance", "distance_field", "level_rings"]
 
@@ -116,9 +117,6 @@ def signed_mask_distance(mask: np.ndarray, pixel_size: float, *, outside: bool =
     return np.where(mask, din.astype(np.float64) - 0.5, 0.5 - dout.astype(np.float64)) * pixel_size
 
 
-_BOX = np.ones((2, 2), np.uint8)
-
-
 def _chamfer_blocks(tile: BlockMask, halo: int) -> np.ndarray:
     """OpenCV's chamfer distance (pixels) of the tile's active blocks, right up to `halo` pixels.
 
@@ -141,32 +139,28 @@ def _chamfer_blocks(tile: BlockMask, halo: int) -> np.ndarray:
     return g.cores(cv2.distanceTransform(image, cv2.DIST_L2, cv2.DIST_MASK_5), halo)
 
 
-def _crossing_corners(field: DistanceField, level: float) -> np.ndarray:
-    """The block pixels that are a corner of a cell the level crosses (bool)."""
-    import cv2
-    corners = cv2.dilate(crossed_cells(field.halo1, level), _BOX, anchor=(1, 1))
-    return field.grid.blocks.cores(corners, 1).view(bool)
-
-
 def distance_field(tile: BlockMask, index: SegmentIndex | None, levels, *, depth: float | None = None) -> DistanceField:
-    """The distance field of a tile, exact wherever the contours of `levels` need it.
+    """The distance field of a tile: the exact distance to its boundary on every material pixel, up to a depth.
 
-    OpenCV's chamfer distance (`signed_mask_distance`, ``precise=False``) errs
-    by half a pixel and about 2 % more; marching squares reads the field only
-    at the corners of the cells a level crosses. Those pixels get the exact distance to the
-    boundary segments. Where that moves a pixel to the other side of a level,
-    the cells around it may start or stop crossing, so their corners are
-    refined too, until no pixel changes side: every cell the contours pass
-    through then has exact corners.
+    Each material pixel of the tile's active blocks gets the distance from its
+    centre to the nearest boundary segment, found among the segments' pieces
+    listed in its bucket (`SegmentIndex.piece_buckets`) by one compiled loop
+    (`slicelab.geometry.kernels.band_distances`); pixels farther than the
+    depth take `DistanceField.deep`. The contours that marching squares
+    interpolates between pixels then lie on the true offsets. Without an
+    index, OpenCV's chamfer distance between pixel centres stands in
+    (`signed_mask_distance`, ``precise=False``): within half a pixel and about
+    2 % of the distance to the pixels' edge.
 
     Parameters
     ----------
     tile : BlockMask
         Its blocks must hold every pixel within `depth` (plus a pixel) of the boundary.
     index : SegmentIndex or None
-        The tile's boundary segments; None keeps the pixel-exact field.
+        The tile's boundary segments (those that bound material under the fill
+        rule); None keeps the pixel-exact field.
     levels : sequence of float
-        Distances (mm) whose level sets will be drawn.
+        Distances (mm) whose level sets will be drawn: the default depth is the deepest.
     depth : float, optional
         The field is computed up to this distance (mm) and a pixel or two
         beyond (`DistanceField.deep`); default the deepest level.
@@ -174,11 +168,10 @@ def distance_field(tile: BlockMask, index: SegmentIndex | None, levels, *, depth
     Returns
     -------
     DistanceField
-        Exact at the corners of every cell a level crosses.
 
     See Also
     --------
-    signed_mask_distance : the approximate field refined here.
+    signed_mask_distance : the pixel distance used without an index.
     level_rings : the level sets of the field, as simplified rings.
 
     Examples
@@ -192,59 +185,26 @@ def distance_field(tile: BlockMask, index: SegmentIndex | None, levels, *, depth
     >>> round(float(f.values[i, j]), 6), f.refined > 0
     (0.3, True)
     """
+    from ..geometry.kernels import band_distances
     p = tile.pixel_size
     levels = [float(v) for v in levels]
     depth = max(levels, default=0.0) if depth is None else float(depth)
     halo = int(np.ceil(depth / p)) + 2
     deep = (halo - 0.5) * p
-    # Only levels inside the material are ever drawn: the outside needs no distances.
-    values = _chamfer_blocks(tile, halo)
-    values -= 0.5
-    values *= p
-    np.minimum(values, np.float32(deep), out=values)
-    refined = 0
-    field = DistanceField(values, tile, deep, 0)
-    if index is None or not len(index) or not levels or not len(values):
-        return field
-    inside = tile.bits
-    need = np.zeros(values.shape, bool)
-    for level in levels:  # over levels, few
-        need |= _crossing_corners(field, level)
-    need &= inside
-    done = np.zeros(values.shape, bool)
-    reach = max(levels) + 4 * p  # the pixels refined lie about this near the boundary
     g = tile.blocks
+    if index is None or not len(index) or not len(g):
+        # Only levels inside the material are ever drawn: the outside needs no distances.
+        values = _chamfer_blocks(tile, halo)
+        values -= 0.5
+        values *= p
+        np.minimum(values, np.float32(deep), out=values)
+        return DistanceField(values, tile, deep, 0)
     rows0, cols0 = g.origins()
-    while True:  # rounds: the first refines nearly everything, the others a few pixels
-        k, r, c = np.nonzero(need)
-        if len(k) == 0:
-            break
-        rows, cols = rows0[k] + r, cols0[k] + c
-        exact, _, _ = index.nearest(np.stack([cols * p, rows * p], 1), reach=reach)
-        approx = values[k, r, c]
-        # Trust the exact distance only where it agrees with the raster (a segment the rule
-        # buried, or a pixel the rule and the geometry disagree on, stays pixel-exact).
-        ok = np.abs(exact - approx) <= 1.5 * p
-        moved = np.zeros(len(k), bool)
-        for level in levels:  # over levels
-            moved |= (exact >= level) != (approx >= level)
-        moved &= ok
-        values[k[ok], r[ok], c[ok]] = exact[ok]
-        done[k, r, c] = True
-        refined += int(np.count_nonzero(ok))
-        if not moved.any():
-            break
-        # The four cells around a pixel that changed side: their corners, the 3 x 3 block.
-        need = np.zeros(values.shape, bool)
-        rm, cm = rows[moved], cols[moved]
-        for dr in (-1, 0, 1):
-            for dc in (-1, 0, 1):
-                kk, rr, cc = g.locate(rm + dr, cm + dc)
-                on = kk >= 0
-                need[kk[on], rr[on], cc[on]] = True
-        need &= inside
-        need &= ~done
-    return DistanceField(values, tile, deep, refined)
+    origin, width, height, start, owner, pieces = index.piece_buckets(deep)
+    values, exact = band_distances(np.ascontiguousarray(tile.bits), rows0.astype(np.int64), cols0.astype(np.int64),
+                                   float(p), float(deep), float(deep), int(origin[0]), int(origin[1]), width,
+                                   height, start, owner, pieces)
+    return DistanceField(values, tile, deep, int(exact))
 
 
 def _snap_corners(ring: np.ndarray, level: float, index: SegmentIndex, p: float,
@@ -314,7 +274,7 @@ def level_rings(field: DistanceField, level: float, *, tolerance: float, index: 
     field : DistanceField
     level : float
     tolerance : float
-        Simplification tolerance (mm), Douglas-Peucker (`simplify_ring`).
+        Simplification tolerance (mm), Douglas-Peucker (`slicelab.toolpath.simplify.simplify_rings`).
     index : SegmentIndex, optional
         Boundary segments; given, sharp corners of the exact offset are restored.
     values : (n, B, B) ndarray, optional
@@ -332,7 +292,7 @@ def level_rings(field: DistanceField, level: float, *, tolerance: float, index: 
     See Also
     --------
     distance_field : the field contoured.
-    slicelab.geometry.march_blocks, slicelab.geometry.simplify_ring : the contours and their simplification.
+    slicelab.geometry.march_blocks, slicelab.toolpath.simplify.simplify_rings : the contours and their simplification.
 
     Examples
     --------
@@ -351,10 +311,8 @@ def level_rings(field: DistanceField, level: float, *, tolerance: float, index: 
         return []
     stack = field.halo1 if values is None else field.mosaic(1, values)
     rings = []
-    for c in march_blocks(stack, level, g):
-        if len(c) < 3:
-            continue
-        c = simplify_ring(c, tolerance / p)
+    # Every ring of the level simplified in one compiled pass (in pixels).
+    for c in simplify_rings([c for c in march_blocks(stack, level, g) if len(c) >= 3], tolerance / p):
         xy = np.stack([c[:, 1] * p, c[:, 0] * p], 1)
         if len(xy) < 3 or abs(signed_area(xy)) < min_area:
             continue

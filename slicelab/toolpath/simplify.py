@@ -22,7 +22,7 @@ The Canadian Cartographer 10(2), 1973.
 
 See Also
 --------
-slicelab.geometry.contours.simplify_ring : the same algorithm on one ring, by OpenCV.
+slicelab.geometry.contours.simplify_ring : the same algorithm on one ring.
 """
 from __future__ import annotations
 
