@@ -6,6 +6,8 @@ slicelab.toolpath.distance : exact distance fields measured with `SegmentIndex`.
 """
 from __future__ import annotations
 
+from functools import cached_property
+
 import numpy as np
 
 from .ragged import expand_ranges, within_group
@@ -114,23 +116,30 @@ class SegmentIndex:
     """
 
     def __init__(self, segments: np.ndarray, piece: float, *, join: bool = False):
-        from scipy.spatial import cKDTree
         seg = np.asarray(segments, np.float64).reshape(-1, 2, 2)
         if join:
             seg = join_collinear(seg)
         self.segments = seg
-        d = seg[:, 1] - seg[:, 0]
-        length = np.hypot(d[:, 0], d[:, 1])
-        pieces, owner = split_segments(seg, piece)
-        k = np.bincount(owner, minlength=len(seg))
-        self.pa, self.pb = pieces[:, 0], pieces[:, 1]
-        self.piece_segment = owner
-        self.pd = self.pb - self.pa
-        self.inv_len2 = 1.0 / np.maximum(np.einsum("ij,ij->i", self.pd, self.pd), 1e-300)
-        self.half = float(0.5 * (length / k).max()) if len(seg) else 0.0
-        self.tree = cKDTree(0.5 * (self.pa + self.pb)) if len(seg) else None
+        self._piece = float(piece)
         self.lo, self.hi = seg.min(axis=1), seg.max(axis=1)
         self._bucket_cache = None
+
+    @cached_property
+    def _pieces(self):
+        """The pieces, made on first use (most queries are answered from the buckets): their
+        ends a, b, b - a, 1 / |b - a|^2, their segments, half the longest, and a k-d tree of
+        their midpoints (None without segments)."""
+        from scipy.spatial import cKDTree
+        seg = self.segments
+        pieces, owner = split_segments(seg, self._piece)
+        d = seg[:, 1] - seg[:, 0]
+        k = np.bincount(owner, minlength=len(seg))
+        pa, pb = pieces[:, 0], pieces[:, 1]
+        pd = pb - pa
+        inv_len2 = 1.0 / np.maximum(np.einsum("ij,ij->i", pd, pd), 1e-300)
+        half = float(0.5 * (np.hypot(d[:, 0], d[:, 1]) / k).max()) if len(seg) else 0.0
+        tree = cKDTree(0.5 * (pa + pb)) if len(seg) else None
+        return pa, pd, inv_len2, owner, half, tree
 
     def _buckets(self, reach: float):
         """Square buckets of side `cell` (at least `reach`), each with the segments whose box,
@@ -249,7 +258,7 @@ class SegmentIndex:
             The nearest point is ``a + t (b - a)`` on segment (a, b).
         """
         q = np.asarray(points, np.float64).reshape(-1, 2)
-        n = len(self.pa)
+        n = len(self.segments)
         dist = np.full(len(q), np.inf)
         best = np.zeros(len(q), np.int64)
         if n == 0 or len(q) == 0:
@@ -264,25 +273,27 @@ class SegmentIndex:
             todo = np.flatnonzero(~found)
         tree = np.zeros(len(q), bool)
         tree[todo] = True
+        pa, pd, inv_len2, owner, half, kd = self._pieces
+        n = len(pa)
         k = min(8, n)
         while len(todo):  # a few rounds: k doubles for the points not yet settled
-            dm, im = self.tree.query(q[todo], k=k)
+            dm, im = kd.query(q[todo], k=k)
             if k == 1:
                 dm, im = dm[:, None], im[:, None]
             qx, qy = q[todo, 0, None], q[todo, 1, None]
-            wx, wy = qx - self.pa[im, 0], qy - self.pa[im, 1]
-            dx, dy = self.pd[im, 0], self.pd[im, 1]
-            tt = np.clip((wx * dx + wy * dy) * self.inv_len2[im], 0.0, 1.0)
+            wx, wy = qx - pa[im, 0], qy - pa[im, 1]
+            dx, dy = pd[im, 0], pd[im, 1]
+            tt = np.clip((wx * dx + wy * dy) * inv_len2[im], 0.0, 1.0)
             ex, ey = wx - tt * dx, wy - tt * dy
             e2 = ex * ex + ey * ey
             a = np.argmin(e2, axis=1)
             r = np.arange(len(todo))
             eb = np.sqrt(e2[r, a])
             dist[todo], best[todo] = eb, im[r, a]
-            done = (eb <= dm[:, -1] - self.half) | (k >= n)
+            done = (eb <= dm[:, -1] - half) | (k >= n)
             todo = todo[~done]
             k = min(2 * k, n)
-        seg = self.piece_segment[best]
+        seg = owner[best]
         if near is not None:
             seg = np.where(tree, seg, known)
         s = self.segments[seg]

@@ -1,19 +1,20 @@
-"""The distance to a layer's boundary on its pixels, exact where contours need it, and its level sets.
+"""The distance to a layer's boundary on its pixels, exact, and its level sets.
 
-OpenCV gives a fast approximate distance between pixel centres and the
-background; in a narrow band around each wanted level it is replaced by the
-exact distance from the pixel centre to the section's boundary segments, so
-the contours that marching squares interpolates between pixels lie on the
-true offsets. Where the true offset has a sharp corner (a crease of the
-distance field, which linear interpolation cuts off), the two straight
-offset edges beside it are extended to meet, and the meeting point is
-checked to lie exactly at the level's distance from the boundary before it
-replaces the cut corner.
+Every material pixel held along the boundary gets the exact distance from
+its centre to the section's boundary segments (those that bound material
+under the fill rule), up to the depth the perimeters and their filling
+need, so the contours that marching squares interpolates between pixels lie
+on the true offsets. The distance is found among the segments' pieces in
+the pixel's bucket, in one compiled loop. Where the true offset has a sharp
+corner (a crease of the distance field, which linear interpolation cuts
+off), the two straight offset edges beside it are extended to meet, and the
+meeting point is checked to lie exactly at the level's distance from the
+boundary before it replaces the cut corner.
 
 The field lives on the blocks of the layer's mask (`slicelab.toolpath.masks.BlockMask`):
-only the blocks near the boundary hold pixels, and OpenCV runs once over
-their stack, each block with a halo copied from its neighbours. Blocks deep
-inside take one value, the depth below which the field is computed.
+only the blocks near the boundary hold pixels, so its cost follows the
+boundary. Blocks deep inside take one value, the depth below which the
+field is computed.
 
 See Also
 --------

@@ -341,12 +341,16 @@ def open_mask(mask, radius: int):
         opened = cv2.morphologyEx(mask.mask.astype(np.uint8), cv2.MORPH_OPEN, kernel).astype(bool)
         return GridMask(opened, mask.row0, mask.col0, mask.pixel_size) if opened.any() else None
     b = mask.blocks.size
+    if not mask.blocks.n_full:
+        # Slivers only (a sloped wall's edge) are known from the erosion of the active blocks
+        # alone: with no full block, nothing outside them survives it.
+        core = mask.blocks.mosaic(mask.bits.view(np.uint8), radius, np.uint8(0), np.uint8(1))
+        if not cv2.countNonZero(cv2.erode(core, kernel)):
+            return None
     halo = 2 * radius
     grid, bits = mask.blocks.widen(mask.bits, False, True, -(-halo // b))
     image = grid.mosaic(bits.view(np.uint8), halo, np.uint8(0), np.uint8(1))
     eroded = cv2.erode(image, kernel)
-    if not grid.n_full and not cv2.countNonZero(eroded):  # slivers only (a sloped wall's edge)
-        return None
     opened = grid.cores(cv2.dilate(eroded, kernel), halo)
     flat = opened.reshape(len(opened), -1) if len(opened) else opened.reshape(0, 1)
     some, every = flat.any(axis=1), flat.all(axis=1)
