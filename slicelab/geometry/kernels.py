@@ -86,18 +86,32 @@ def march_cells(flat, level, b, m, nb, rows0, cols0, r_origin, c_origin, width):
     end = np.empty(cap, np.int64)
     points = np.empty((cap, 2), np.float64)
     s = 0
+    # Which pixels of two consecutive rows are at or above the level: each pixel is compared
+    # once, and a cell is skipped when its four corners agree (most cells: it is uncrossed).
+    above = np.empty((2, q), np.uint8)
     for k in range(n):
         y0 = (k // m) * q
         x0 = (k % m) * q
+        for j in range(q):
+            above[0, j] = flat[y0, x0 + j] >= level
         for i in range(b + 1):
+            up, lo = i & 1, (i + 1) & 1
+            total = 0
+            for j in range(q):
+                a = flat[y0 + i + 1, x0 + j] >= level
+                above[lo, j] = a
+                total += a + above[up, j]
+            if total == 0 or total == 2 * q:  # the two rows on one side: no cell crossed
+                continue
             for j in range(b + 1):
+                corners = above[up, j] + above[up, j + 1] + above[lo, j] + above[lo, j + 1]
+                if corners == 0 or corners == 4:
+                    continue
+                cu, cr, cl, cw = above[up, j] == 1, above[up, j + 1] == 1, above[lo, j] == 1, above[lo, j + 1] == 1
                 vu = np.float64(flat[y0 + i, x0 + j])
                 vr = np.float64(flat[y0 + i, x0 + j + 1])
                 vl = np.float64(flat[y0 + i + 1, x0 + j])
                 vw = np.float64(flat[y0 + i + 1, x0 + j + 1])
-                cu, cr, cl, cw = vu >= level, vr >= level, vl >= level, vw >= level
-                if cu == cr and cu == cl and cu == cw:
-                    continue
                 r, c = i - 1, j - 1
                 if not _owned(r, c, b, nb, k, n):
                     continue
