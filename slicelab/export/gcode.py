@@ -79,7 +79,7 @@ class _Moves:
         return float(t.sum())
 
 
-def gcode_lines(plan, totals: dict | None = None):
+def gcode_lines(plan, totals: dict | None = None, *, workers: int = 1):
     """Yield the G-code text in blocks (header, each layer, end, the totals).
 
     Parameters
@@ -89,6 +89,8 @@ def gcode_lines(plan, totals: dict | None = None):
         Filled at the end with ``seconds`` (the estimated print time) and
         ``filament`` (mm), as the file's last lines say, and ``layer_seconds``
         (each layer's time, slowed to `min_layer_time` where needed).
+    workers : int, default 1
+        Processes formatting the layers; the text is the same for any number.
 
     See Also
     --------
@@ -104,40 +106,22 @@ def gcode_lines(plan, totals: dict | None = None):
            f"; flavor = {s.gcode_flavor}\n"
            + render_gcode(s.start_gcode if s.start_gcode is not None else MARLIN_START, s)
            + "G92 E0\nM107\n")
-    moves = _Moves(np.zeros(3))  # G28 leaves the nozzle at the origin
+    starts = _layer_starts(plan)
     seconds = filament = 0.0
-    pos = None
     z = 0.0
     fan_now = 0  # M107 above
     layer_seconds = []
-    for k, (lp, h) in enumerate(zip(plan.layers, plan.heights)):  # over layers
+    for k, (text, t, used) in enumerate(_layer_blocks(plan, starts, workers)):  # over layers, in order
+        lp, h = plan.layers[k], plan.heights[k]
         z = lp.z + 0.0
-        # Written at full speed first; a layer quicker than `min_layer_time` is written again
-        # slower, so that it has time to cool before the next one is laid on it.
-        start = (moves.pos.copy(), moves.start.copy())
-        text, end, used = _layer_gcode(k, lp, h, s, off, moves, pos, 1.0)
-        t = moves.seconds(s)
-        factor = 1.0
-        for _ in range(4):  # travel and acceleration do not slow in step: a few rounds, moves only
-            if k == 0 or t >= 0.99 * s.min_layer_time or factor * s.min_layer_time <= 0:
-                break
-            factor *= t / s.min_layer_time
-            moves.pos, moves.start = start
-            moves.ends, moves.e, moves.feed = [], [], []
-            _, end, used = _layer_gcode(k, lp, h, s, off, moves, pos, factor, text=False)
-            t = moves.seconds(s)
-        if factor < 1:  # the text once, at the speed found
-            moves.pos, moves.start = start
-            moves.ends, moves.e, moves.feed = [], [], []
-            text, end, used = _layer_gcode(k, lp, h, s, off, moves, pos, factor)
-            t = moves.seconds(s)
         fan = layer_fan(k, t, s)
         head = (f";LAYER_CHANGE\n;Z:{z:.3f}\n;HEIGHT:{h:.3f}\n;LAYER:{k}\n"
                 + ("" if fan == fan_now else _fan_command(fan)))
         fan_now = fan
-        pos, seconds, filament = end, seconds + t, filament + used
+        seconds, filament = seconds + t, filament + used
         layer_seconds.append(t)
         yield head + text.replace("\x00FAN\x00", _fan_command(fan))
+    moves = _Moves(starts[-1][1])
     top = max(z, min(z + 10.0, s.max_height))
     moves.add(moves.pos, -s.retraction_length, round(60 * s.retraction_speed) / 60)
     moves.add([*(moves.pos[:2]), top], 0.0, 10.0)
@@ -149,6 +133,86 @@ def gcode_lines(plan, totals: dict | None = None):
     yield (f"\n; filament used [mm] = {filament:.2f}\n"
            f"; filament used [cm3] = {filament * s.filament_area / 1000:.2f}\n"
            f"; estimated printing time (normal mode) = {format_duration(seconds)}\n")
+
+
+def _layer_starts(plan) -> list:
+    """Where the nozzle is as each layer starts, and after the last: (xy of the last extrusion's end
+    in bed coordinates, None before any; the position as written, xyz rounded to the micrometre).
+
+    A layer moves up to its height, then ends on the last point of its last path; G28 leaves
+    the nozzle at the origin.
+    """
+    off = plan.offset
+    pos, at = None, np.zeros(3)
+    out = []
+    for lp in plan.layers:  # over layers: a few operations each
+        out.append((pos, at))
+        z = lp.z + 0.0
+        if lp.paths:
+            pos = lp.paths[-1] + off[:2]
+            pos = pos[-1]
+            at = np.round([pos[0], pos[1], z], 3)
+        else:
+            at = np.round([at[0], at[1], z], 3)
+    out.append((pos, at))
+    return out
+
+
+#: Layers per task when several processes format the G-code.
+_GCODE_RUN = 25
+
+
+def _layer_blocks(plan, starts: list, workers: int):
+    """Each layer's (text, seconds, filament), in order: formatted here or by a pool of processes."""
+    n = len(plan.layers)
+    s, off = plan.settings, plan.offset
+    runs = [range(a, min(n, a + _GCODE_RUN)) for a in range(0, n, _GCODE_RUN)]
+
+    def job(run):
+        return (list(run), [plan.layers[k] for k in run], [float(plan.heights[k]) for k in run], s, off,
+                [starts[k] for k in run])
+
+    if workers <= 1 or len(runs) < 2:
+        for run in runs:
+            yield from _format_run(*job(run))
+        return
+    import multiprocessing as mp
+    from concurrent.futures import ProcessPoolExecutor
+    with ProcessPoolExecutor(min(workers, len(runs)), mp_context=mp.get_context("fork")) as pool:
+        # Submitted all at once; taken back in order, so the file is written while later runs format.
+        futures = [pool.submit(_format_run, *job(run)) for run in runs]
+        for fut in futures:
+            yield from fut.result()
+
+
+def _format_run(ks: list, layers: list, heights: list, s, off, starts: list) -> list:
+    """The (text, seconds, filament) of some layers, each from its start (`_layer_starts`): its
+    inputs come as arguments, so a pool's worker needs nothing from its parent."""
+    return [_layer_block(k, lp, h, s, off, pos, at) for k, lp, h, (pos, at) in zip(ks, layers, heights, starts)]
+
+
+def _layer_block(k: int, lp, h: float, s, off, pos, at) -> tuple[str, float, float]:
+    """One layer's G-code (without its header; its fan as a marker), its time and filament.
+
+    Written at full speed first; a layer quicker than `min_layer_time` is written again slower,
+    so that it has time to cool before the next one is laid on it.
+    """
+    moves = _Moves(at)
+    text, _, used = _layer_gcode(k, lp, h, s, off, moves, pos, 1.0)
+    t = moves.seconds(s)
+    factor = 1.0
+    for _ in range(4):  # travel and acceleration do not slow in step: a few rounds, moves only
+        if k == 0 or t >= 0.99 * s.min_layer_time or factor * s.min_layer_time <= 0:
+            break
+        factor *= t / s.min_layer_time
+        moves = _Moves(at)
+        _, _, used = _layer_gcode(k, lp, h, s, off, moves, pos, factor, text=False)
+        t = moves.seconds(s)
+    if factor < 1:  # the text once, at the speed found
+        moves = _Moves(at)
+        text, _, used = _layer_gcode(k, lp, h, s, off, moves, pos, factor)
+        t = moves.seconds(s)
+    return text, t, used
 
 
 def _fan_command(percent: int) -> str:
@@ -246,13 +310,16 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
     return "".join(out), pos, filament
 
 
-def write_gcode(plan, path) -> dict:
+def write_gcode(plan, path, *, workers: int | None = None) -> dict:
     """Write the plan's G-code to `path` (temporary name, renamed when whole).
 
     Parameters
     ----------
     plan : PrintPlan
     path : str or Path
+    workers : int, optional
+        Processes formatting the layers (default: all cores for a plan of
+        more than a hundred layers, else 1); the file is the same for any number.
 
     Returns
     -------
@@ -276,9 +343,12 @@ def write_gcode(plan, path) -> dict:
     >>> text.splitlines()[-1], round(totals["seconds"])
     ('; estimated printing time (normal mode) = 20s', 20)
     """
+    import os
+    if workers is None:
+        workers = (os.cpu_count() or 1) if len(plan.layers) > 4 * _GCODE_RUN else 1
     totals: dict = {}
     with atomic_open(path, "w", encoding="utf-8") as fh:
-        for block in gcode_lines(plan, totals):
+        for block in gcode_lines(plan, totals, workers=max(1, int(workers))):
             fh.write(block)
     return totals
 

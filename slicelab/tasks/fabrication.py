@@ -260,7 +260,7 @@ def _slice_compute(inp, p):
 
 def _slice_write(pp, inp, p, out):
     from ..export import write_gcode
-    totals = write_gcode(pp, out.path("gcode"))
+    totals = write_gcode(pp, out.path("gcode"), workers=p["workers"])
     if p["preview"]:
         from ..export import write_svgs
         from ..viz import preview_png
