@@ -124,3 +124,61 @@ def test_douglas_peucker_keeps_every_dropped_vertex_within_tolerance():
     # and simplify_paths keeps the ends of each path
     simple = simplify_paths([path[:1000], path[1000:]], tol)
     assert np.array_equal(simple[0][[0, -1]], path[[0, 999]]) and np.array_equal(simple[1][[0, -1]], path[[1000, 2999]])
+
+
+def _star(n=7, r0=6.0, r1=2.5, centre=(0.013, -0.021)):
+    t = np.linspace(0, 2 * np.pi, 2 * n, endpoint=False)
+    r = np.where(np.arange(2 * n) % 2 == 0, r0, r1)
+    return np.c_[centre[0] + r * np.cos(t), centre[1] + r * np.sin(t)]
+
+
+def test_distance_field_is_the_brute_force_distance_on_every_material_pixel():
+    # Every material pixel held: the distance from its centre to the nearest boundary segment
+    # (all segments, numpy), capped at the field's depth; outside pixels at -p/2.
+    from types import SimpleNamespace
+    from slicelab.toolpath.distance import distance_field
+    from slicelab.toolpath.raster import rasterize
+    hole = _star(5, 1.5, 0.8)[::-1]
+    p = 0.1
+    r = rasterize(SimpleNamespace(loops=[_star(), hole]), p, band=1.5)
+    (tile,), (segs,) = r.tiles, r.segments
+    f = distance_field(tile, SegmentIndex(segs, 2 * p, join=True), [0.2, 0.6], depth=0.94)
+    rows0, cols0 = tile.blocks.origins()
+    k, i, j = np.nonzero(np.ones(f.blocks.shape, bool))
+    q = np.c_[(cols0[k] + j) * p, (rows0[k] + i) * p]
+    loops = [_star(), hole]
+    edges = np.concatenate([np.stack([lp, np.roll(lp, -1, axis=0)], 1) for lp in loops])
+    a, d = edges[:, 0], edges[:, 1] - edges[:, 0]
+    w = q[:, None] - a[None]
+    t = np.clip((w * d[None]).sum(-1) / (d * d).sum(-1)[None], 0, 1)
+    exact = np.hypot(*(w - t[..., None] * d[None]).transpose(2, 0, 1)).min(axis=1)
+    inside = tile.bits[k, i, j]
+    got = f.blocks[k, i, j]
+    np.testing.assert_allclose(got[inside], np.minimum(exact[inside], f.deep), atol=1e-5)
+    assert (got[~inside] == np.float32(-p / 2)).all()
+    assert f.refined == int(np.count_nonzero(exact[inside] < f.deep)) > 1000
+
+
+def test_cut_at_crossings_cuts_each_piece_where_edges_cross_it():
+    from slicelab.geometry.kernels import cut_at_crossings
+    shapely = pytest.importorskip("shapely")
+    rng = np.random.default_rng(3)
+    pieces = rng.uniform(0, 10, (40, 2, 2))
+    edges = rng.uniform(0, 10, (25, 2, 2))
+    parts = cut_at_crossings(pieces, edges)
+    fence = shapely.MultiLineString([e for e in edges])
+    at = 0
+    for pc in pieces:  # each piece comes back as consecutive parts from its start to its end
+        line = shapely.LineString(pc)
+        crossings = line.intersection(fence)
+        n_cross = len(shapely.get_parts(crossings)) if not crossings.is_empty else 0
+        mine = parts[at:at + n_cross + 1]
+        at += n_cross + 1
+        np.testing.assert_allclose(mine[0, 0], pc[0])
+        np.testing.assert_allclose(mine[-1, 1], pc[1])
+        np.testing.assert_allclose(mine[1:, 0], mine[:-1, 1])
+        # Every cut lies on an edge, and the lengths add up.
+        for x in mine[1:, 0]:
+            assert fence.distance(shapely.Point(x)) < 1e-9
+        assert abs(np.hypot(*(mine[:, 1] - mine[:, 0]).T).sum() - line.length) < 1e-9
+    assert at == len(parts) > len(pieces)

@@ -25,7 +25,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["march_cells", "closed_cycles", "fill_blocks", "nearest_in_buckets", "band_distances", "douglas_peucker",
+__all__ = ["march_cells", "closed_cycles", "fill_blocks", "nearest_in_buckets", "band_distances", "cut_at_crossings",
+           "winding_at", "douglas_peucker",
            "warm"]
 
 # Block table values of uniform blocks (`slicelab.geometry.blocks`: EMPTY, FULL).
@@ -430,6 +431,90 @@ def band_distances(inside, rows0, cols0, p, deep, cell, ox, oy, width, height, s
 
 
 @njit(cache=True, nogil=True)
+def cut_at_crossings(pieces, edges):
+    """Each piece cut where an edge crosses its interior: the parts, in order along each piece.
+
+    A crossing is where the piece's open interior (0 < t < 1) meets an edge,
+    ends included; parallel edges never cross. A piece no edge crosses comes
+    back whole.
+
+    Parameters
+    ----------
+    pieces, edges : (m, 2, 2), (e, 2, 2) float64 ndarray
+
+    Returns
+    -------
+    (k, 2, 2) float64 ndarray
+    """
+    m, ne = len(pieces), len(edges)
+    cap = 2 * m + 16
+    out = np.empty((cap, 2, 2))
+    o = 0
+    ts = np.empty(ne + 2)
+    for i in range(m):
+        ax, ay = pieces[i, 0, 0], pieces[i, 0, 1]
+        dx, dy = pieces[i, 1, 0] - ax, pieces[i, 1, 1] - ay
+        xlo, xhi = min(ax, ax + dx), max(ax, ax + dx)
+        ylo, yhi = min(ay, ay + dy), max(ay, ay + dy)
+        nt = 0
+        ts[nt] = 0.0
+        nt += 1
+        for j in range(ne):
+            cx, cy = edges[j, 0, 0], edges[j, 0, 1]
+            ex, ey = edges[j, 1, 0] - cx, edges[j, 1, 1] - cy
+            if max(cx, cx + ex) < xlo or min(cx, cx + ex) > xhi or max(cy, cy + ey) < ylo \
+                    or min(cy, cy + ey) > yhi:
+                continue
+            den = dx * ey - dy * ex
+            if den == 0:
+                continue
+            wx, wy = cx - ax, cy - ay
+            t = (wx * ey - wy * ex) / den
+            u = (wx * dy - wy * dx) / den
+            if 0 < t < 1 and 0 <= u <= 1:
+                ts[nt] = t
+                nt += 1
+        ts[nt] = 1.0
+        nt += 1
+        cuts = np.sort(ts[:nt])
+        for h in range(nt - 1):
+            t0, t1 = cuts[h], cuts[h + 1]
+            if not t1 > t0:
+                continue
+            if o >= cap:
+                cap *= 2
+                out = _grown(out, cap)
+            out[o, 0, 0], out[o, 0, 1] = ax + t0 * dx, ay + t0 * dy
+            out[o, 1, 0], out[o, 1, 1] = ax + t1 * dx, ay + t1 * dy
+            o += 1
+    return out[:o]
+
+
+@njit(cache=True, nogil=True)
+def winding_at(points, edges):
+    """Winding number of each point with respect to oriented edges (material on their left).
+
+    A horizontal ray to +x from the point counts +1 for each upward edge it
+    crosses with the point on the edge's left, -1 for each downward edge with
+    the point on its right; an edge spans ``ymin <= y < ymax``, so a vertex on
+    the ray is counted once. A counter-clockwise loop's inside gets +1.
+    """
+    out = np.zeros(len(points), np.int64)
+    for i in range(len(points)):
+        px, py = points[i, 0], points[i, 1]
+        w = 0
+        for j in range(len(edges)):
+            x0, y0, x1, y1 = edges[j, 0, 0], edges[j, 0, 1], edges[j, 1, 0], edges[j, 1, 1]
+            side = (x1 - x0) * (py - y0) - (px - x0) * (y1 - y0)
+            if y0 <= py < y1 and side > 0:
+                w += 1
+            elif y1 <= py < y0 and side < 0:
+                w -= 1
+        out[i] = w
+    return out
+
+
+@njit(cache=True, nogil=True)
 def douglas_peucker(points, keep, tolerance):
     """Douglas-Peucker on concatenated polylines: `keep` with the vertices the simplification needs.
 
@@ -500,3 +585,5 @@ def warm() -> None:
     band_distances(np.ones((1, 1, 1), bool), i64, i64, 0.1, 1.0, 1.0, 0, 0, 1, 1, np.zeros(2, np.int64), i64,
                    np.zeros((1, 2, 2)))
     douglas_peucker(np.zeros((2, 2)), np.ones(2, bool), 0.1)
+    cut_at_crossings(np.zeros((1, 2, 2)), np.zeros((1, 2, 2)))
+    winding_at(np.zeros((1, 2)), np.zeros((1, 2, 2)))

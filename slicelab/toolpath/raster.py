@@ -337,53 +337,51 @@ def rasterize(section, pixel_size: float = 0.1, *, rule: str = "nonzero", margin
         # Pieces of at most 4 px, so an edge that is partly buried by another shell keeps its
         # exposed part (to within one piece).
         pieces, _ = split_segments(edges, 4 * p)
-        seg_lists.append(_exposed(pieces, edges, tile))
+        seg_lists.append(_exposed(pieces, edges, tile, rule))
     return LayerRaster(tuple(tiles), p, rule, loops, group.astype(np.int64), seg_lists, float(band))
 
 
-def _exposed(pieces, edges, tile) -> np.ndarray:
+def _exposed(pieces, edges, tile, rule: str = "nonzero") -> np.ndarray:
     """The pieces of loop edges that bound material; a piece that another shell's edge crosses
     (points near its ends and middle disagree) is cut at the crossings and each part judged on
     its own."""
-    votes = [_bounding(pieces, tile, at=t) for t in (0.05, 0.5, 0.95)]
+    votes = [_bounding(pieces, edges, tile, rule, at=t) for t in (0.05, 0.5, 0.95)]
     mixed = np.flatnonzero((votes[0] != votes[1]) | (votes[1] != votes[2]))
     out = [pieces[votes[0] & votes[1] & votes[2]]]
     if len(mixed):
-        a, d = pieces[mixed, 0], pieces[mixed, 1] - pieces[mixed, 0]
-        c, e = edges[:, 0], edges[:, 1] - edges[:, 0]
-        den = d[:, None, 0] * e[None, :, 1] - d[:, None, 1] * e[None, :, 0]
-        w = c[None] - a[:, None]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t = (w[..., 0] * e[None, :, 1] - w[..., 1] * e[None, :, 0]) / den
-            u = (w[..., 0] * d[:, None, 1] - w[..., 1] * d[:, None, 0]) / den
-        hit = (den != 0) & (t > 0) & (t < 1) & (u >= 0) & (u <= 1)
-        # Every crossed piece cut at its crossings at once: row i holds 0, its crossings in
-        # order, then 1 (repeated where it has fewer crossings than the most crossed piece).
-        most = int(hit.sum(axis=1).max())
-        cuts = np.sort(np.where(hit, t, 1.0), axis=1)[:, :most]
-        ts = np.concatenate([np.zeros((len(mixed), 1)), cuts, np.ones((len(mixed), 1))], axis=1)
-        t0, t1 = ts[:, :-1], ts[:, 1:]
-        real = t1 > t0
-        rows = np.nonzero(real)[0]
-        parts = np.stack([a[rows] + t0[real][:, None] * d[rows], a[rows] + t1[real][:, None] * d[rows]], axis=1)
-        out.append(parts[_bounding(parts, tile)])
+        from ..geometry.kernels import cut_at_crossings
+        # Every crossed piece cut at its crossings in one compiled loop (edges whose boxes miss
+        # the piece's are passed over), each part then judged on its own.
+        parts = cut_at_crossings(np.ascontiguousarray(pieces[mixed]), np.ascontiguousarray(edges, np.float64))
+        out.append(parts[_bounding(parts, edges, tile, rule)])
     return np.concatenate(out)
 
 
-def _bounding(edges, tile, at: float = 0.5) -> np.ndarray:
-    """Which edges have material on exactly one side (sampled 1.5 px either side of the point
-    at fraction `at` along them)."""
+def _bounding(pieces, edges, tile, rule: str, at: float = 0.5) -> np.ndarray:
+    """Which pieces have material on exactly one side, at the point at fraction `at` along them.
+
+    The mask is sampled 1.5 px either side of the point. Where both samples agree (a sliver
+    of material or of void thinner than 3 px lies there, or the piece is buried in another
+    shell), the loops' winding numbers a hair either side of the point decide exactly.
+    """
+    from ..geometry.kernels import winding_at
     p = tile.pixel_size
-    d = edges[:, 1] - edges[:, 0]
+    d = pieces[:, 1] - pieces[:, 0]
     length = np.hypot(d[:, 0], d[:, 1])
     n = np.stack([-d[:, 1], d[:, 0]], 1) / np.where(length > 0, length, 1.0)[:, None]
-    mid = edges[:, 0] + at * d
+    mid = pieces[:, 0] + at * d
 
     def material(pts):
         return tile.at(np.rint(pts[:, 1] / p).astype(np.int64), np.rint(pts[:, 0] / p).astype(np.int64))
 
     # 1.5 px: the nearest pixel centre of the sample point is then surely on its side.
     left, right = material(mid + 1.5 * p * n), material(mid - 1.5 * p * n)
+    unsure = np.flatnonzero((left == right) & (length > 0))
+    if len(unsure):
+        eps = 1e-6 * np.maximum(length[unsure], p)[:, None] * n[unsure]
+        e = np.ascontiguousarray(edges, np.float64)
+        wl, wr = (winding_at(np.ascontiguousarray(mid[unsure] + s * eps), e) for s in (1, -1))
+        left[unsure], right[unsure] = ((wl != 0), (wr != 0)) if rule == "nonzero" else ((wl % 2 == 1), (wr % 2 == 1))
     return (left != right) & (length > 0)
 
 
