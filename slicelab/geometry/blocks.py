@@ -206,8 +206,22 @@ class BlockGrid:
 
     @cached_property
     def neighbours(self) -> np.ndarray:
-        """(3, 3, n) stack index of each active block's eight neighbours and itself (see `neighbour`)."""
-        return np.stack([np.stack([self.neighbour(dr, dc) for dc in (-1, 0, 1)]) for dr in (-1, 0, 1)])
+        """(3, 3, n) stack index of each active block's eight neighbours and itself (see `neighbour`).
+
+        Examples
+        --------
+        >>> g = BlockGrid(1, 0, 0, np.array([[0, FULL], [EMPTY, 1]]))
+        >>> g.neighbours[:, :, 0].tolist()   # n = 2 (empty), 3 (full)
+        [[2, 2, 2], [2, 0, 3], [2, 2, 1]]
+        """
+        n = len(self)
+        # The table padded with an empty ring, as stack indices (n empty, n + 1 full): each
+        # neighbour is then one gather.
+        t = np.pad(self.table, 1, constant_values=EMPTY)
+        t = np.where(t >= 0, t, np.where(t == FULL, n + 1, n))
+        r, c = self.rows - self.row0 + 1, self.cols - self.col0 + 1
+        dr, dc = np.mgrid[-1:2, -1:2]
+        return t[r[None, None, :] + dr[..., None], c[None, None, :] + dc[..., None]]
 
     def pack(self, data: np.ndarray, halo: int, empty, full) -> np.ndarray:
         """The stack with a halo of `halo` pixels copied from each block's neighbours.

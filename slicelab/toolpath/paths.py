@@ -257,20 +257,22 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
                 break
         return np.concatenate(pts)
 
-    def nearest_open(cands, paths_of, loops):
-        """The path to print next and how: from its start, from its end (reversed), or, for a
-        loop (when `loops`), from its vertex nearest the nozzle."""
-        best, how, dbest = None, "start", np.inf
-        for j in cands:
-            p = paths_of(j)
-            if loops and len(p) > 3 and np.array_equal(p[0], p[-1]):
-                options = ((float(np.min(np.hypot(*(p[:-1] - pos).T))), "loop"),)
-            else:
-                options = ((np.hypot(*(p[0] - pos)), "start"), (np.hypot(*(p[-1] - pos)), "end"))
-            for d, h in options:
-                if d < dbest:
-                    best, how, dbest = j, h, d
-        return best, how
+    def open_order(cands, paths_of, loops):
+        """Yield the paths in print order, each with how to print it: from its start, from its
+        end (reversed), or, for a loop (when `loops`), from its vertex nearest the nozzle. The
+        next is the nearest to the nozzle (the first in `cands` on ties, its start before its end)."""
+        paths = [paths_of(j) for j in cands]
+        ring = np.array([loops and len(q) > 3 and np.array_equal(q[0], q[-1]) for q in paths], bool)
+        ends = np.array([[q[0], q[-1]] for q in paths], np.float64).reshape(-1, 2, 2)
+        alive = np.ones(len(paths), bool)
+        while alive.any():  # over the paths: one vectorised distance per pick
+            d = np.hypot(*(ends - pos).transpose(2, 0, 1))
+            d[~alive] = np.inf
+            for i in np.flatnonzero(ring & alive):  # loops (concentric filling), few
+                d[i] = (float(np.min(np.hypot(*(paths[i][:-1] - pos).T))), np.inf)
+            i, e = divmod(int(np.argmin(d)), 2)
+            alive[i] = False
+            yield cands[i], ("loop" if ring[i] else ("end" if e else "start"))
 
     remaining = dict(groups)
     while remaining:  # over islands, nearest first
@@ -295,10 +297,7 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
                 go(path)
                 out_kind.append(lp[2]), out_paths.append(path), out_w.append(w)
         for role, source in (("gap_fill", gap_fill), ("filling", fills)):
-            todo = list(g[role])
-            while todo:  # nearest end first
-                j, how = nearest_open(todo, lambda j: source[j], role == "filling")
-                todo.remove(j)
+            for j, how in open_order(list(g[role]), lambda j: source[j], role == "filling"):  # nearest first
                 path = {"start": source[j], "end": source[j][::-1]}.get(how)
                 path = _closed_from(source[j][:-1], pos) if path is None else path
                 go(path)
