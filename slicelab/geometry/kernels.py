@@ -361,31 +361,6 @@ def nearest_in_buckets(q, first, count, owner, segments):
 
 
 @njit(cache=True, nogil=True)
-def _bucket_distance(x, y, cell, ox, oy, width, height, start, owner, pieces):
-    """Distance from (x, y) to the nearest piece listed in its bucket (inf if none)."""
-    bx = int(np.floor(x / cell)) - ox
-    by = int(np.floor(y / cell)) - oy
-    if bx < 0 or bx >= width or by < 0 or by >= height:
-        return np.inf
-    key = by * width + bx
-    low = np.inf
-    for u in range(start[key], start[key + 1]):
-        s = owner[u]
-        ax, ay = pieces[s, 0, 0], pieces[s, 0, 1]
-        dx, dy = pieces[s, 1, 0] - ax, pieces[s, 1, 1] - ay
-        wx, wy = x - ax, y - ay
-        den = dx * dx + dy * dy
-        t = 0.0
-        if den > 0:
-            t = min(max((wx * dx + wy * dy) / den, 0.0), 1.0)
-        ex, ey = wx - t * dx, wy - t * dy
-        e2 = ex * ex + ey * ey
-        if e2 < low:
-            low = e2
-    return np.sqrt(low)
-
-
-@njit(cache=True, nogil=True)
 def band_distances(inside, rows0, cols0, p, deep, cell, ox, oy, width, height, start, owner, pieces):
     """Exact distance from each material pixel's centre to the boundary, up to `deep`.
 
@@ -414,14 +389,48 @@ def band_distances(inside, rows0, cols0, p, deep, cell, ox, oy, width, height, s
     outside = np.float32(-0.5 * p)
     top = np.float32(deep)
     exact = 0
+    most = 0
+    for q in range(len(start) - 1):
+        most = max(most, start[q + 1] - start[q])
+    # The candidates of the bucket at hand, gathered into contiguous arrays: pixels in the
+    # same bucket (a run of a row) share them.
+    ax, ay = np.empty(most), np.empty(most)
+    dx, dy, inv = np.empty(most), np.empty(most), np.empty(most)
+    bcol = np.empty(b, np.int64)
     for k in range(n):
+        for c in range(b):
+            bcol[c] = int(np.floor((cols0[k] + c) * p / cell)) - ox
         for r in range(b):
             y = (rows0[k] + r) * p
+            by = int(np.floor(y / cell)) - oy
+            held = -1
+            count = 0
             for c in range(b):
                 if not inside[k, r, c]:
                     out[k, r, c] = outside
                     continue
-                d = _bucket_distance((cols0[k] + c) * p, y, cell, ox, oy, width, height, start, owner, pieces)
+                bx = bcol[c]
+                if bx < 0 or bx >= width or by < 0 or by >= height:
+                    out[k, r, c] = top
+                    continue
+                key = by * width + bx
+                if key != held:
+                    held = key
+                    count = start[key + 1] - start[key]
+                    for u in range(count):
+                        sgm = owner[start[key] + u]
+                        ax[u], ay[u] = pieces[sgm, 0, 0], pieces[sgm, 0, 1]
+                        dx[u], dy[u] = pieces[sgm, 1, 0] - ax[u], pieces[sgm, 1, 1] - ay[u]
+                        den = dx[u] * dx[u] + dy[u] * dy[u]
+                        inv[u] = 1.0 / den if den > 0 else 0.0
+                x = (cols0[k] + c) * p
+                low = np.inf
+                for u in range(count):
+                    wx, wy = x - ax[u], y - ay[u]
+                    t = min(max((wx * dx[u] + wy * dy[u]) * inv[u], 0.0), 1.0)
+                    ex, ey = wx - t * dx[u], wy - t * dy[u]
+                    low = min(low, ex * ex + ey * ey)
+                d = np.sqrt(low)
                 if d < deep:
                     out[k, r, c] = d
                     exact += 1
