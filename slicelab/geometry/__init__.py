@@ -34,7 +34,7 @@ from .._lazy import attach
 
 # The compiled kernels load numba: only when a layer needs them.
 _KERNELS = ("march_cells", "closed_cycles", "fill_blocks", "nearest_in_buckets", "band_distances", "cut_at_crossings",
-            "winding_at", "douglas_peucker", "warm")
+            "winding_at", "row_prefix", "douglas_peucker", "warm")
 __getattr__, __dir__ = attach(__name__, {name: "kernels" for name in _KERNELS}, globals())
 
 __all__ = ["Frame", "NEXT_CORNER", "crossing_edges", "edge_points", "plane_distances", "exact_ids", "weld", "edge_table", "shells", "EdgeCounts", "edge_counts", "manifold_summary", "Chains", "chain_segments", "join_open_chains", "signed_area", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons", "edge_cross", "winding_normals", "triangle_areas", "group_starts", "within_group", "expand_ranges", "crossed_cells", "march", "march_blocks", "simplify_ring", "skeleton_neighbours", "trace_skeleton", "split_segments", "join_collinear", "SegmentIndex", "EMPTY", "FULL", "BlockGrid", "blocks_near", *_KERNELS]

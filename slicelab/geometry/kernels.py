@@ -26,8 +26,7 @@ import numpy as np
 from numba import njit
 
 __all__ = ["march_cells", "closed_cycles", "fill_blocks", "nearest_in_buckets", "band_distances", "cut_at_crossings",
-           "winding_at", "douglas_peucker",
-           "warm"]
+           "winding_at", "row_prefix", "douglas_peucker", "warm"]
 
 # Block table values of uniform blocks (`slicelab.geometry.blocks`: EMPTY, FULL).
 _EMPTY = -1
@@ -524,6 +523,18 @@ def winding_at(points, edges):
 
 
 @njit(cache=True, nogil=True)
+def row_prefix(steps, base):
+    """Running sums along the rows of (n, B, B) `steps`, in place, each row starting from `base[k, r]`."""
+    n, b, w = steps.shape
+    for k in range(n):
+        for r in range(b):
+            acc = base[k, r]
+            for c in range(w):
+                acc += steps[k, r, c]
+                steps[k, r, c] = acc
+
+
+@njit(cache=True, nogil=True)
 def douglas_peucker(points, keep, tolerance):
     """Douglas-Peucker on concatenated polylines: `keep` with the vertices the simplification needs.
 
@@ -596,3 +607,4 @@ def warm() -> None:
     douglas_peucker(np.zeros((2, 2)), np.ones(2, bool), 0.1)
     cut_at_crossings(np.zeros((1, 2, 2)), np.zeros((1, 2, 2)))
     winding_at(np.zeros((1, 2)), np.zeros((1, 2, 2)))
+    row_prefix(np.zeros((1, 1, 1), np.int32), np.zeros((1, 1), np.int32))

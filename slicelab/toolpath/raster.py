@@ -203,8 +203,8 @@ def winding_blocks(edges: np.ndarray, blocks: BlockGrid, pixel_size: float) -> n
     k, lr, lc = blocks.locate(rows, cols)
     on = k >= 0
     np.add.at(out.reshape(-1), (k[on] * b + lr[on]) * b + lc[on], step[on])
-    out = np.cumsum(out, axis=2, dtype=np.int32)
-    out += base[:, :, None].astype(np.int32)
+    from ..geometry.kernels import row_prefix
+    row_prefix(out, base.astype(np.int32))  # one compiled pass: numpy's cumsum is slow on short rows
     return out
 
 
