@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["march_cells", "closed_cycles", "fill_blocks", "nearest_in_buckets", "band_distances", "cut_at_crossings",
+__all__ = ["march_cells", "closed_cycles", "fill_blocks", "combine_blocks", "nearest_in_buckets", "band_distances", "cut_at_crossings",
            "winding_at", "row_prefix", "douglas_peucker", "warm"]
 
 # Block table values of uniform blocks (`slicelab.geometry.blocks`: EMPTY, FULL).
@@ -327,6 +327,87 @@ def fill_blocks(out, data, h, empty, full, table, brow0, bcol0, rows, cols):
 
 
 @njit(cache=True, nogil=True)
+def _block_at(table, brow0, bcol0, i, j):
+    """Stack index, or -1 / -2 (empty / full), of world block (i, j) of a table (empty outside it)."""
+    ti, tj = i - brow0, j - bcol0
+    if 0 <= ti < table.shape[0] and 0 <= tj < table.shape[1]:
+        return table[ti, tj]
+    return _EMPTY
+
+
+@njit(cache=True, nogil=True)
+def combine_blocks(op, bb, ta, ra, ca, bits_a, tb, rb, cb, bits_b, r0, c0, nr, nc):
+    """A set operation of two block masks (0: and, 1: and not, 2: or), block by block.
+
+    Each mask is a table of stack indices or -1 / -2 (empty / full), its
+    ``[0, 0]`` at world block (r, c), and its blocks' `bb` pixels each (uint8,
+    0 or 1, one flat array). The result covers world blocks ``r0 .. r0 + nr -
+    1`` by ``c0 .. c0 + nc - 1``: two uniform blocks give a uniform one; a
+    uniform and a held block give the held pixels, their complement, or
+    nothing; two held blocks their pixel-wise result. A result all set (all
+    clear) becomes a full (empty) block.
+
+    Returns
+    -------
+    table : (nr, nc) int64 ndarray
+        Stack index (row-major order), -1 or -2.
+    bits : (m bb,) uint8 ndarray
+    """
+    table = np.empty((nr, nc), np.int64)
+    out = np.empty(len(bits_a) + len(bits_b), np.uint8)  # at most every held block of both
+    m = 0
+    for i in range(nr):
+        for j in range(nc):
+            sa = _block_at(ta, ra, ca, r0 + i, c0 + j)
+            sb = _block_at(tb, rb, cb, r0 + i, c0 + j)
+            # Each side: -1 empty, -2 full, else held; the result uniform, a copy, or combined.
+            if op == 0:
+                if sa == _EMPTY or sb == _EMPTY or (sa == _FULL and sb == _FULL):
+                    table[i, j] = _EMPTY if (sa == _EMPTY or sb == _EMPTY) else _FULL
+                    continue
+            elif op == 1:
+                if sa == _EMPTY or sb == _FULL or (sa == _FULL and sb == _EMPTY):
+                    table[i, j] = _FULL if (sa == _FULL and sb == _EMPTY) else _EMPTY
+                    continue
+            else:
+                if sa == _FULL or sb == _FULL or (sa == _EMPTY and sb == _EMPTY):
+                    table[i, j] = _EMPTY if (sa == _EMPTY and sb == _EMPTY) else _FULL
+                    continue
+            o = m * bb
+            total = 0  # pixels set: none, all, or some
+            if sa >= 0 and sb >= 0:
+                x, y = sa * bb, sb * bb
+                for u in range(bb):
+                    if op == 0:
+                        v = bits_a[x + u] & bits_b[y + u]
+                    elif op == 1:
+                        v = bits_a[x + u] & (bits_b[y + u] ^ np.uint8(1))
+                    else:
+                        v = bits_a[x + u] | bits_b[y + u]
+                    out[o + u] = v
+                    total += v
+            else:
+                # One side held, the other uniform: the held pixels, or (full minus held) their
+                # complement.
+                if sa >= 0:
+                    src, x, flip = bits_a, sa * bb, np.uint8(0)
+                else:
+                    src, x, flip = bits_b, sb * bb, np.uint8(1 if op == 1 else 0)
+                for u in range(bb):
+                    v = src[x + u] ^ flip
+                    out[o + u] = v
+                    total += v
+            if total == 0:
+                table[i, j] = _EMPTY
+            elif total == bb:
+                table[i, j] = _FULL
+            else:
+                table[i, j] = m
+                m += 1
+    return table, out[:m * bb]
+
+
+@njit(cache=True, nogil=True)
 def nearest_in_buckets(q, first, count, owner, segments):
     """Nearest of each point's candidate segments: distance, segment and parameter along it.
 
@@ -602,6 +683,7 @@ def warm() -> None:
         fill_blocks(np.zeros((1, 3, 1, 3), dtype), np.zeros((1, 1, 1), dtype), 1, dtype(0), dtype(1), table, 0, 0,
                     i64, i64)
     nearest_in_buckets(np.zeros((1, 2)), i64, i64, i64, np.zeros((1, 2, 2)))
+    combine_blocks(0, 1, table, 0, 0, np.zeros(1, np.uint8), table, 0, 0, np.zeros(1, np.uint8), 0, 0, 1, 1)
     band_distances(np.ones((1, 1, 1), bool), i64, i64, 0.1, 1.0, 1.0, 0, 0, 1, 1, np.zeros(2, np.int64), i64,
                    np.zeros((1, 2, 2)))
     douglas_peucker(np.zeros((2, 2)), np.ones(2, bool), 0.1)

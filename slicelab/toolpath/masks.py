@@ -171,13 +171,12 @@ class GridMask(_Window):
         return out
 
 
-# Uniform value of a block: empty, full, or mixed (its pixels held).
-_KIND_OPS = {
-    "and": lambda a, b: np.where((a == 0) | (b == 0), 0, np.where((a == 1) & (b == 1), 1, 2)),
-    "sub": lambda a, b: np.where((a == 0) | (b == 1), 0, np.where((a == 1) & (b == 0), 1, 2)),
-    "or": lambda a, b: np.where((a == 1) | (b == 1), 1, np.where((a == 0) & (b == 0), 0, 2)),
-}
-_BIT_OPS = {"and": lambda a, b: a & b, "sub": lambda a, b: a & ~b, "or": lambda a, b: a | b}
+_OPS = {"and": 0, "sub": 1, "or": 2}  # operation codes of `slicelab.geometry.kernels.combine_blocks`
+
+
+def _flat(bits: np.ndarray) -> np.ndarray:
+    """A stack of block pixels as one flat uint8 array (0 or 1), without a copy when it can."""
+    return np.ascontiguousarray(bits).view(np.uint8).reshape(-1)
 
 
 @dataclass(frozen=True, eq=False)
@@ -259,20 +258,14 @@ class BlockMask(_Window):
             r0, c0 = a.row0, a.col0
             r1, c1 = r0 + a.table.shape[0], c0 + a.table.shape[1]
             row0, col0, shape = self.row0, self.col0, self.shape
-        br, bc = np.mgrid[r0:r1, c0:c1]
-        sa, sb = a.status(br, bc), b.status(br, bc)
-        ka = np.where(sa >= 0, 2, np.where(sa == FULL, 1, 0))
-        kb = np.where(sb >= 0, 2, np.where(sb == FULL, 1, 0))
-        kind = _KIND_OPS[op](ka, kb)
-        mixed = kind == 2
-        bits = _BIT_OPS[op](_stack(self.bits, sa[mixed]), _stack(other.bits, sb[mixed]))
-        # Blocks that came out uniform become empty or full again.
-        flat = bits.reshape(len(bits), -1) if len(bits) else bits.reshape(0, 1)
-        some, every = flat.any(axis=1), flat.all(axis=1)
-        keep = some & ~every
-        kind[mixed] = np.where(keep, 2, np.where(every, 1, 0))
-        grid = BlockGrid.from_status(a.size, r0, c0, kind == 2, kind == 1)
-        return BlockMask(bits[keep], grid, row0, col0, tuple(shape), self.pixel_size)
+        from ..geometry.kernels import combine_blocks
+        # One compiled pass over the result's blocks: uniform pairs stay uniform, a held block
+        # beside a uniform one is copied (or complemented), two held blocks are combined.
+        bb = a.size * a.size
+        table, bits = combine_blocks(_OPS[op], bb, a.table, a.row0, a.col0, _flat(self.bits), b.table, b.row0,
+                                     b.col0, _flat(other.bits), r0, c0, r1 - r0, c1 - c0)
+        bits = bits.view(bool).reshape(-1, a.size, a.size)
+        return BlockMask(bits, BlockGrid(a.size, r0, c0, table), row0, col0, tuple(shape), self.pixel_size)
 
     def __and__(self, other):
         return self._op(other, "and")
