@@ -33,7 +33,8 @@ from .triangles import edge_cross, triangle_areas, winding_normals
 from .._lazy import attach
 
 # The compiled kernels load numba: only when a layer needs them.
-_KERNELS = ("march_cells", "closed_cycles", "fill_blocks", "combine_blocks", "nearest_in_buckets", "band_distances", "cut_at_crossings",
+_KERNELS = ("march_cells", "closed_cycles", "fill_blocks", "combine_blocks", "sample_blocks",
+            "nearest_in_buckets", "band_distances", "cut_at_crossings",
             "winding_at", "row_prefix", "douglas_peucker", "warm")
 __getattr__, __dir__ = attach(__name__, {name: "kernels" for name in _KERNELS}, globals())
 

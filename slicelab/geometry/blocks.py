@@ -191,12 +191,22 @@ class BlockGrid:
         return self.status(rows // b, cols // b), rows % b, cols % b
 
     def sample(self, data: np.ndarray, empty, full, rows, cols) -> np.ndarray:
-        """Values of world pixels: from the stack, or the uniform value of their block."""
-        k, r, c = self.locate(rows, cols)
-        out = np.where(k == FULL, full, empty).astype(data.dtype)
-        on = k >= 0
-        out[on] = data[k[on], r[on], c[on]]
-        return out
+        """Values of world pixels: from the stack, or the uniform value of their block.
+
+        Examples
+        --------
+        >>> g = BlockGrid(2, 0, 0, np.array([[0, FULL]]))
+        >>> g.sample(np.array([[[1, 2], [3, 4]]]), 0, 9, [1, 0, 5], [0, 3, 0]).tolist()
+        [3, 9, 0]
+        """
+        from .kernels import sample_blocks
+        rows, cols = np.asarray(rows, np.int64), np.asarray(cols, np.int64)
+        shape = np.broadcast_shapes(rows.shape, cols.shape)
+        rows, cols = (np.ascontiguousarray(np.broadcast_to(a, shape)).reshape(-1) for a in (rows, cols))
+        dtype = data.dtype.type
+        out = sample_blocks(self.table, self.row0, self.col0, self.size, np.ascontiguousarray(data), dtype(empty),
+                            dtype(full), rows, cols)
+        return out.reshape(shape)
 
     def neighbour(self, dr: int, dc: int) -> np.ndarray:
         """Stack index of each active block's neighbour (dr, dc) blocks away; n if empty, n + 1 if full."""

@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["march_cells", "closed_cycles", "fill_blocks", "combine_blocks", "nearest_in_buckets", "band_distances", "cut_at_crossings",
+__all__ = ["march_cells", "closed_cycles", "fill_blocks", "combine_blocks", "sample_blocks", "nearest_in_buckets", "band_distances", "cut_at_crossings",
            "winding_at", "row_prefix", "douglas_peucker", "warm"]
 
 # Block table values of uniform blocks (`slicelab.geometry.blocks`: EMPTY, FULL).
@@ -333,6 +333,21 @@ def _block_at(table, brow0, bcol0, i, j):
     if 0 <= ti < table.shape[0] and 0 <= tj < table.shape[1]:
         return table[ti, tj]
     return _EMPTY
+
+
+@njit(cache=True, nogil=True)
+def sample_blocks(table, brow0, bcol0, b, data, empty, full, rows, cols):
+    """Values at world pixels (rows, cols): from the held blocks' `data`, or the uniform value of
+    their block (`empty` outside the table)."""
+    out = np.empty(len(rows), data.dtype)
+    for i in range(len(rows)):
+        br, bc = rows[i] // b, cols[i] // b
+        k = _block_at(table, brow0, bcol0, br, bc)
+        if k >= 0:
+            out[i] = data[k, rows[i] - br * b, cols[i] - bc * b]
+        else:
+            out[i] = full if k == _FULL else empty
+    return out
 
 
 @njit(cache=True, nogil=True)
@@ -684,6 +699,7 @@ def warm() -> None:
                     i64, i64)
     nearest_in_buckets(np.zeros((1, 2)), i64, i64, i64, np.zeros((1, 2, 2)))
     combine_blocks(0, 1, table, 0, 0, np.zeros(1, np.uint8), table, 0, 0, np.zeros(1, np.uint8), 0, 0, 1, 1)
+    sample_blocks(table, 0, 0, 1, np.zeros((1, 1, 1), bool), False, True, i64, i64)
     band_distances(np.ones((1, 1, 1), bool), i64, i64, 0.1, 1.0, 1.0, 0, 0, 1, 1, np.zeros(2, np.int64), i64,
                    np.zeros((1, 2, 2)))
     douglas_peucker(np.zeros((2, 2)), np.ones(2, bool), 0.1)
