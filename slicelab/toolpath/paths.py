@@ -188,7 +188,8 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
 
     gap_fill, gap_widths = list(per.gap_fill), list(per.gap_widths)
     if per.solid or (infill_density >= 1 and per.fill):  # solid filling, bridges included
-        g, gw = _solid_gaps(per, fills, [] if infill_density >= 1 else per.fill)
+        solid_region = list(per.solid) + (list(per.fill) if infill_density >= 1 else [])
+        g, gw = _solid_gaps(per, fills, [] if infill_density >= 1 else per.fill, solid_region)
         gap_fill += g
         gap_widths += gw
 
@@ -352,25 +353,48 @@ def _simplified(polygons: list, tolerance: float) -> list:
     return out
 
 
-def _solid_gaps(per: Perimeters, fills: list, sparse: list):
-    """Gap fill for what solid filling misses (slivers where its lines run nearly parallel)."""
+def _solid_gaps(per: Perimeters, fills: list, sparse: list, region: list):
+    """Gap fill for what solid filling misses (slivers where its lines run nearly parallel).
+
+    Only the box of the solid `region` (polygons) is looked at, with a margin of a line and a
+    half: the work follows the solid region, not the tile.
+    """
     w = per.line_width
     rings = [r for polys in per.rings for p in polys for r in (p.exterior, *p.holes)]
     out, widths = [], []
+    if not region:
+        return out, widths
+    corners = np.concatenate([q.exterior for q in region])
+    lo, hi = corners.min(axis=0), corners.max(axis=0)
     for fld in per.fields:  # over tiles
         g = fld.grid
         p = g.pixel_size
-        cov = draw_polylines(g.shape, g.row0, g.col0, p, rings, w, closed=True)
-        cov |= draw_polylines(g.shape, g.row0, g.col0, p, list(fills) + list(per.gap_fill), w)
-        uncovered = g.mask & (cov < 128)
+        margin = int(np.ceil(1.5 * w / p)) + 3
+        r0 = max(g.row0, int(np.floor(lo[1] / p)) - margin)
+        c0 = max(g.col0, int(np.floor(lo[0] / p)) - margin)
+        r1 = min(g.row0 + g.shape[0], int(np.ceil(hi[1] / p)) + margin + 1)
+        c1 = min(g.col0 + g.shape[1], int(np.ceil(hi[0] / p)) + margin + 1)
+        if r1 <= r0 or c1 <= c0:
+            continue
+        shape = (r1 - r0, c1 - c0)
+        cov = draw_polylines(shape, r0, c0, p, rings, w, closed=True)
+        cov |= draw_polylines(shape, r0, c0, p, list(fills) + list(per.gap_fill), w)
+        uncovered = g.window(r0, c0, shape) & (cov < 128)
         if sparse:
             import cv2
             edges = np.concatenate([np.stack([r, np.roll(r, -1, axis=0)], 1)
                                     for q in sparse for r in (q.exterior, *q.holes)])
-            outside = winding_numbers(edges, g.row0, g.col0, g.shape, p) == 0
+            outside = winding_numbers(edges, r0, c0, shape, p) == 0
             near = cv2.distanceTransform(outside.astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE) * p
             uncovered &= near > 0.5 * w + p
-        a, b = medial_fill(g, uncovered, w, 0.5 * w)
+        # Only the region's box, widened by what its lines' ends reach: there the distance to the
+        # sparse region is exact (the margin holds every sparse pixel that near).
+        keep = int(np.ceil((0.5 * w + p) / p))
+        inner = np.zeros(shape, bool)
+        inner[max(0, int(np.floor(lo[1] / p)) - keep - r0):max(0, int(np.ceil(hi[1] / p)) + keep + 1 - r0),
+              max(0, int(np.floor(lo[0] / p)) - keep - c0):max(0, int(np.ceil(hi[0] / p)) + keep + 1 - c0)] = True
+        uncovered &= inner
+        a, b = medial_fill(GridMask(uncovered, r0, c0, p), uncovered, w, 0.5 * w)
         out += a
         widths += b
     return out, widths
