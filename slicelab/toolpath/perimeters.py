@@ -33,7 +33,7 @@ from ..geometry.polygons import Polygon, build_polygons, loop_hierarchy, points_
 from ..geometry.spatial import SegmentIndex
 from .distance import distance_field, level_rings
 from .gapfill import disc, medial_fill, medial_fill_blocks, uncovered_blocks
-from .masks import BlockMask, GridMask
+from .masks import BlockMask, GridMask, bits_in_blocks
 from .raster import BAND, LayerRaster, rasterize
 
 __all__ = ["level_polygons", "Perimeters", "layer_perimeters", "medial_fill", "mask_rings", "perimeter_depth",
@@ -233,6 +233,19 @@ def _opened(field, level: float, radius: float) -> np.ndarray:
     return region & (field.blocks >= level)
 
 
+def _solid_share(field, fill: np.ndarray, solid) -> tuple[int, int]:
+    """Pixels of a tile's filling region (`fill` on the field's blocks, and its full blocks), and
+    how many of them the `solid` mask holds: all of them or none spare cutting the region."""
+    from ..geometry.blocks import FULL
+    g = field.grid.blocks
+    whole = g.size * g.size
+    fr, fc = np.nonzero(g.table == FULL)
+    total = int(np.count_nonzero(fill)) + len(fr) * whole
+    held = int(np.count_nonzero(fill & bits_in_blocks(solid, g.rows, g.cols, g.size)))
+    held += int(np.count_nonzero(bits_in_blocks(solid, fr + g.row0, fc + g.col0, g.size)))
+    return total, held
+
+
 def _one_island(loops: list) -> bool:
     """Whether the loops are one outer loop (material on its left) and holes inside it."""
     areas = np.array([signed_area(lp) for lp in loops])
@@ -327,6 +340,7 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
     rings_by_level = [[] for _ in range(n_perimeters)]
     fill_rings, gaps, gap_w, fields = [], [], [], []
     thin = 0
+    fill_px = solid_px = 0  # pixels of the filling's region, and of its solid part
     for t, (tile, segs) in enumerate(zip(raster.tiles, raster.segments)):  # over tiles
         # Short pieces: fewer second rounds in the k-d tree; runs of pieces joined: fewer
         # candidates near each pixel.
@@ -345,6 +359,8 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
         fill_mask = _opened(fld, fill_level - 0.5 * p, 0.5 * w)
         lowered = np.where(fill_mask, fld.blocks, np.minimum(fld.blocks, np.float32(fill_level - 0.6 * p)))
         fill_rings += level_rings(fld, fill_level, tolerance=0.5 * p, values=lowered)
+        if solid is not None:
+            fill_px, solid_px = (a + b for a, b in zip((fill_px, solid_px), _solid_share(fld, fill_mask, solid)))
         unc = uncovered_blocks(fld, fill_mask, levels, w)
         g, gw = medial_fill_blocks(tile.blocks, unc, p, w, min_gap)
         gaps += g
@@ -354,7 +370,9 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
                                                            np.flatnonzero(raster.loop_tile == t)])):
             thin += _islands_missed(fld, float(levels[0]))
     solid_rings = []
-    if solid is not None and fill_rings:
+    if solid is not None and fill_rings and 0 < solid_px == fill_px:  # all of the filling is solid
+        solid_rings, fill_rings = fill_rings, []
+    elif solid is not None and fill_rings and (solid_px or not fill_px):  # a part: cut along the mask
         solid_rings, fill_rings = split_by_mask(level_polygons(fill_rings), solid, 4 * p * p)
     return Perimeters(w, levels, [level_polygons(r) for r in rings_by_level], fill_level,
                       level_polygons(fill_rings), level_polygons(solid_rings), gaps, gap_w, thin, fields)
