@@ -172,12 +172,17 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
     grow = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * margin + 1, 2 * margin + 1))
     ring = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (5, 5))
     bridges, area, worst, where, outlines = [], 0.0, 0, None, []
+    h, w = shape
     for k in range(1, count):  # over the hanging parts, few
-        part = labels == k
         if stats[k, cv2.CC_STAT_AREA] < min_px:
             continue
-        region = cv2.dilate(part.astype(np.uint8), grow).astype(bool) & free
-        anchors = cv2.dilate(region.astype(np.uint8), ring).astype(bool) & held
+        # The part's box, widened by what the two dilations reach: the work follows the part.
+        x, y = stats[k, cv2.CC_STAT_LEFT], stats[k, cv2.CC_STAT_TOP]
+        ya, yb = max(0, y - margin - 3), min(h, y + stats[k, cv2.CC_STAT_HEIGHT] + margin + 3)
+        xa, xb = max(0, x - margin - 3), min(w, x + stats[k, cv2.CC_STAT_WIDTH] + margin + 3)
+        part = labels[ya:yb, xa:xb] == k
+        region = cv2.dilate(part.astype(np.uint8), grow).astype(bool) & free[ya:yb, xa:xb]
+        anchors = cv2.dilate(region.astype(np.uint8), ring).astype(bool) & held[ya:yb, xa:xb]
         n_a, a_labels, a_stats, a_centres = cv2.connectedComponentsWithStats(anchors.astype(np.uint8),
                                                                             connectivity=8)
         big = [j for j in range(1, n_a) if a_stats[j, cv2.CC_STAT_AREA] >= min_px]
@@ -185,16 +190,17 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
             big.sort(key=lambda j: -a_stats[j, cv2.CC_STAT_AREA])
             (x0, y0), (x1, y1) = a_centres[big[0]], a_centres[big[1]]
             angle = math.degrees(math.atan2(y1 - y0, x1 - x0))
-            bridges.append(Bridge(GridMask(region, row0, col0, p), angle, math.hypot(x1 - x0, y1 - y0) * p))
+            bridges.append(Bridge(GridMask(region, row0 + ya, col0 + xa, p), angle,
+                                  math.hypot(x1 - x0, y1 - y0) * p))
             continue
         px = int(stats[k, cv2.CC_STAT_AREA])
         area += px * p * p
         contours, _ = cv2.findContours(part.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
-        outlines += [(c.reshape(-1, 2) + (col0, row0)) * p for c in contours if len(c) >= 3]
+        outlines += [(c.reshape(-1, 2) + (col0 + xa, row0 + ya)) * p for c in contours if len(c) >= 3]
         if px > worst:
             rr, cc = np.nonzero(part)
             i = len(rr) // 2
-            worst, where = px, np.array([(col0 + cc[i]) * p, (row0 + rr[i]) * p])
+            worst, where = px, np.array([(col0 + xa + cc[i]) * p, (row0 + ya + rr[i]) * p])
     return LayerOverhangs(tuple(bridges), area, mid_air, where, tuple(outlines), steepest)
 
 
