@@ -182,3 +182,25 @@ def test_cut_at_crossings_cuts_each_piece_where_edges_cross_it():
             assert fence.distance(shapely.Point(x)) < 1e-9
         assert abs(np.hypot(*(mine[:, 1] - mine[:, 0]).T).sum() - line.length) < 1e-9
     assert at == len(parts) > len(pieces)
+
+
+def test_simplify_chains_keeps_every_vertex_within_tolerance_and_runs_apart():
+    from slicelab.geometry.spatial import simplify_chains
+    shapely = pytest.importorskip("shapely")
+    rng = np.random.default_rng(5)
+    t = np.linspace(0, 2 * np.pi, 400)
+    wavy = np.c_[t, 0.3 * np.sin(3 * t) + rng.normal(0, 0.002, len(t))]
+    circle = np.c_[20 + 5 * np.cos(t), 5 * np.sin(t)]
+    circle[-1] = circle[0]  # a closed run
+    runs = [wavy[:200], wavy[210:], circle]  # the gap between the first two is not a segment
+    seg = np.concatenate([np.stack([r[:-1], r[1:]], 1) for r in runs])
+    out = simplify_chains(seg, 0.01)
+    assert len(out) < len(seg) / 3
+    for r in runs:  # each run's vertices lie within the tolerance of the simplified segments
+        lines = shapely.MultiLineString([s for s in out])
+        assert shapely.distance(lines, shapely.points(r)).max() <= 0.01 + 1e-12
+    # Every output segment joins two vertices of one run, and the runs' ends stay.
+    owner = {tuple(v): k for k, r in enumerate(runs) for v in r}
+    assert all(owner[tuple(a)] == owner[tuple(b)] for a, b in out)
+    ends = {tuple(x) for s in out for x in s}
+    assert all(tuple(r[0]) in ends and tuple(r[-1]) in ends for r in runs)

@@ -27,7 +27,7 @@ from .polygons import (
     signed_area,
 )
 from .ragged import expand_ranges, group_starts, within_group
-from .spatial import SegmentIndex, join_collinear, split_segments
+from .spatial import SegmentIndex, join_collinear, simplify_chains, split_segments
 from .topology import EdgeCounts, edge_counts, edge_table, exact_ids, manifold_summary, shells, weld
 from .triangles import edge_cross, triangle_areas, winding_normals
 from .._lazy import attach
@@ -38,4 +38,4 @@ _KERNELS = ("march_cells", "closed_cycles", "fill_blocks", "combine_blocks", "sa
             "winding_at", "row_prefix", "douglas_peucker", "warm")
 __getattr__, __dir__ = attach(__name__, {name: "kernels" for name in _KERNELS}, globals())
 
-__all__ = ["Frame", "NEXT_CORNER", "crossing_edges", "edge_points", "plane_distances", "exact_ids", "weld", "edge_table", "shells", "EdgeCounts", "edge_counts", "manifold_summary", "Chains", "chain_segments", "join_open_chains", "signed_area", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons", "edge_cross", "winding_normals", "triangle_areas", "group_starts", "within_group", "expand_ranges", "crossed_cells", "march", "march_blocks", "simplify_ring", "skeleton_neighbours", "trace_skeleton", "split_segments", "join_collinear", "SegmentIndex", "EMPTY", "FULL", "BlockGrid", "blocks_near", *_KERNELS]
+__all__ = ["Frame", "NEXT_CORNER", "crossing_edges", "edge_points", "plane_distances", "exact_ids", "weld", "edge_table", "shells", "EdgeCounts", "edge_counts", "manifold_summary", "Chains", "chain_segments", "join_open_chains", "signed_area", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons", "edge_cross", "winding_normals", "triangle_areas", "group_starts", "within_group", "expand_ranges", "crossed_cells", "march", "march_blocks", "simplify_ring", "skeleton_neighbours", "trace_skeleton", "split_segments", "join_collinear", "simplify_chains", "SegmentIndex", "EMPTY", "FULL", "BlockGrid", "blocks_near", *_KERNELS]
