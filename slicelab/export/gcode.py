@@ -319,7 +319,7 @@ def write_gcode(plan, path, *, workers: int | None = None) -> dict:
     path : str or Path
     workers : int, optional
         Processes formatting the layers (default: all cores for a plan of
-        more than a hundred layers, else 1); the file is the same for any number.
+        more than fifty layers, else 1); the file is the same for any number.
 
     Returns
     -------
@@ -345,7 +345,7 @@ def write_gcode(plan, path, *, workers: int | None = None) -> dict:
     """
     import os
     if workers is None:
-        workers = (os.cpu_count() or 1) if len(plan.layers) > 4 * _GCODE_RUN else 1
+        workers = (os.cpu_count() or 1) if len(plan.layers) > 2 * _GCODE_RUN else 1
     totals: dict = {}
     with atomic_open(path, "w", encoding="utf-8") as fh:
         for block in gcode_lines(plan, totals, workers=max(1, int(workers))):

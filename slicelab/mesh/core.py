@@ -7,6 +7,7 @@ own logic in its own module and takes a `Mesh` as plain data.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 
@@ -86,12 +87,15 @@ class Mesh:
         size = " x ".join(f"{s:.4g}" for s in hi - lo)
         return f"Mesh({len(self)} facets, {size} mm)"
 
-    @property
+    @cached_property
     def bounds(self) -> np.ndarray:
-        """(2, 3) array: minimum and maximum corner of the bounding box."""
+        """(2, 3) array: minimum and maximum corner of the bounding box (read-only, made once:
+        the corners cannot change)."""
         flat = self.triangles.reshape(-1, 3)
         # Column by column: numpy reduces a strided column far faster than axis=0 of (n, 3).
-        return np.array([[flat[:, k].min() for k in range(3)], [flat[:, k].max() for k in range(3)]])
+        out = np.array([[flat[:, k].min() for k in range(3)], [flat[:, k].max() for k in range(3)]])
+        out.setflags(write=False)
+        return out
 
     @classmethod
     def from_triangles(cls, triangles, file_normals=None) -> "Mesh":
