@@ -419,7 +419,7 @@ def run_job(name: str, source, params: dict | None = None, folder=None, *, paths
     results = {**results, **written.get("results", {})}
     reasons = list(reasons) + list(written.get("reasons", []))
     if len(mesh):
-        size = likely_units(float(np.ptp(mesh.triangles.reshape(-1, 3), axis=0).max()))
+        size = likely_units(float(np.ptp(mesh.bounds, axis=0).max()))
         if size is not None and not any(r["code"] == "units?" for r in reasons):
             reasons.append(reason("units?", size))
     if repaired is not None:
