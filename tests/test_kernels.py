@@ -6,7 +6,8 @@ import pytest
 
 from slicelab.geometry import contours
 from slicelab.geometry.blocks import EMPTY, FULL, BlockGrid
-from slicelab.geometry.kernels import closed_cycles, douglas_peucker
+from slicelab.geometry.kernels import closed_cycles
+from slicelab.geometry.segment_kernels import douglas_peucker
 from slicelab.geometry.spatial import SegmentIndex
 from slicelab.toolpath.simplify import simplify_paths
 
@@ -160,7 +161,7 @@ def test_distance_field_is_the_brute_force_distance_on_every_material_pixel():
 
 
 def test_cut_at_crossings_cuts_each_piece_where_edges_cross_it():
-    from slicelab.geometry.kernels import cut_at_crossings
+    from slicelab.geometry.segment_kernels import cut_at_crossings
     shapely = pytest.importorskip("shapely")
     rng = np.random.default_rng(3)
     pieces = rng.uniform(0, 10, (40, 2, 2))

@@ -33,9 +33,9 @@ from .triangles import edge_cross, triangle_areas, winding_normals
 from .._lazy import attach
 
 # The compiled kernels load numba: only when a layer needs them.
-_KERNELS = ("march_cells", "closed_cycles", "fill_blocks", "combine_blocks", "sample_blocks",
-            "nearest_in_buckets", "band_distances", "cut_at_crossings",
-            "winding_at", "row_prefix", "douglas_peucker", "warm")
-__getattr__, __dir__ = attach(__name__, {name: "kernels" for name in _KERNELS}, globals())
+_KERNELS = ("march_cells", "closed_cycles", "fill_blocks", "sample_blocks", "combine_blocks", "row_prefix", "warm")
+_SEGMENT_KERNELS = ("nearest_in_buckets", "band_distances", "cut_at_crossings", "winding_at", "douglas_peucker")
+__getattr__, __dir__ = attach(__name__, {**{name: "kernels" for name in _KERNELS},
+                                         **{name: "segment_kernels" for name in _SEGMENT_KERNELS}}, globals())
 
-__all__ = ["Frame", "NEXT_CORNER", "crossing_edges", "edge_points", "plane_distances", "exact_ids", "weld", "edge_table", "shells", "EdgeCounts", "edge_counts", "manifold_summary", "Chains", "chain_segments", "join_open_chains", "signed_area", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons", "edge_cross", "winding_normals", "triangle_areas", "group_starts", "within_group", "expand_ranges", "crossed_cells", "march", "march_blocks", "simplify_ring", "skeleton_neighbours", "trace_skeleton", "split_segments", "join_collinear", "simplify_chains", "SegmentIndex", "EMPTY", "FULL", "BlockGrid", "blocks_near", *_KERNELS]
+__all__ = ["Frame", "NEXT_CORNER", "crossing_edges", "edge_points", "plane_distances", "exact_ids", "weld", "edge_table", "shells", "EdgeCounts", "edge_counts", "manifold_summary", "Chains", "chain_segments", "join_open_chains", "signed_area", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons", "edge_cross", "winding_normals", "triangle_areas", "group_starts", "within_group", "expand_ranges", "crossed_cells", "march", "march_blocks", "simplify_ring", "skeleton_neighbours", "trace_skeleton", "split_segments", "join_collinear", "simplify_chains", "SegmentIndex", "EMPTY", "FULL", "BlockGrid", "blocks_near", *_KERNELS, *_SEGMENT_KERNELS]

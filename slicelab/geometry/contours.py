@@ -264,7 +264,7 @@ def simplify_ring(ring: np.ndarray, tolerance: float) -> np.ndarray:
     >>> len(simplify_ring(ring, 0.05)) < 100, set(map(tuple, simplify_ring(ring, 0.05))) <= set(map(tuple, ring))
     (True, True)
     """
-    from .kernels import douglas_peucker
+    from .segment_kernels import douglas_peucker
     ring = np.asarray(ring)
     if len(ring) < 4:
         return ring

@@ -1,4 +1,4 @@
-"""Compiled loops for the per-layer hot paths: marching squares over blocks, chaining, halos, nearest segments.
+"""Compiled loops over pixels and blocks: marching squares, chaining, halos, block lookups and set operations.
 
 A layer's toolpaths take a few dozen passes over the pixels held along its
 boundary. Written with numpy, each pass is several array calls whose fixed
@@ -6,14 +6,14 @@ cost (tens of microseconds each) adds up to most of a layer's time; these
 loops do each pass in one compiled call instead (numba, compiled on first use
 and cached on disk beside this file). Each kernel is a plain loop over its
 input, linear in it; the modules that call them (`slicelab.geometry.contours`,
-`slicelab.geometry.blocks`, `slicelab.geometry.spatial`) keep the interfaces
-and say what the results mean.
+`slicelab.geometry.blocks`, `slicelab.toolpath.masks`,
+`slicelab.toolpath.raster`) keep the interfaces and say what the results mean.
 
 See Also
 --------
 slicelab.geometry.contours.march_blocks : the contours these kernels trace.
 slicelab.geometry.blocks.BlockGrid.mosaic : the blocks and halos `fill_blocks` copies.
-slicelab.geometry.spatial.SegmentIndex.nearest : the distances `nearest_in_buckets` measures.
+slicelab.geometry.segment_kernels : the compiled loops over segments and points.
 
 References
 ----------
@@ -25,8 +25,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["march_cells", "closed_cycles", "fill_blocks", "combine_blocks", "sample_blocks", "nearest_in_buckets", "band_distances", "cut_at_crossings",
-           "winding_at", "row_prefix", "douglas_peucker", "warm"]
+__all__ = ["march_cells", "closed_cycles", "fill_blocks", "sample_blocks", "combine_blocks", "row_prefix",
+           "warm"]
 
 # Block table values of uniform blocks (`slicelab.geometry.blocks`: EMPTY, FULL).
 _EMPTY = -1
@@ -423,202 +423,6 @@ def combine_blocks(op, bb, ta, ra, ca, bits_a, tb, rb, cb, bits_b, r0, c0, nr, n
 
 
 @njit(cache=True, nogil=True)
-def nearest_in_buckets(q, first, count, owner, segments):
-    """Nearest of each point's candidate segments: distance, segment and parameter along it.
-
-    Point i's candidates are ``owner[first[i]:first[i] + count[i]]``; the
-    first candidate reaching the smallest distance wins. A point with no
-    candidate gets inf.
-    """
-    n = len(q)
-    dist = np.full(n, np.inf)
-    best = np.zeros(n, np.int64)
-    tt = np.zeros(n)
-    for i in range(n):
-        low = np.inf
-        px, py = q[i, 0], q[i, 1]
-        for u in range(first[i], first[i] + count[i]):
-            s = owner[u]
-            ax, ay = segments[s, 0, 0], segments[s, 0, 1]
-            dx, dy = segments[s, 1, 0] - ax, segments[s, 1, 1] - ay
-            wx, wy = px - ax, py - ay
-            t = (wx * dx + wy * dy) / max(dx * dx + dy * dy, 1e-300)
-            t = min(max(t, 0.0), 1.0)
-            ex, ey = wx - t * dx, wy - t * dy
-            e2 = ex * ex + ey * ey
-            if e2 < low:
-                low = e2
-                best[i] = s
-                tt[i] = t
-        if count[i] > 0:
-            dist[i] = np.sqrt(low)
-    return dist, best, tt
-
-
-@njit(cache=True, nogil=True)
-def band_distances(inside, rows0, cols0, p, deep, cell, ox, oy, width, height, start, owner, pieces):
-    """Exact distance from each material pixel's centre to the boundary, up to `deep`.
-
-    Parameters
-    ----------
-    inside : (n, B, B) bool ndarray
-        Material pixels of the active blocks.
-    rows0, cols0 : (n,) int64 ndarray
-        World pixel of each block's first pixel (centre at ``(col p, row p)``).
-    p, deep : float
-        Pixel size; the largest distance measured (mm), at most `cell`.
-    cell, ox, oy, width, height, start, owner, pieces
-        Square buckets of side `cell` (bucket (i, j) is ``(oy + i, ox + j)``
-        in cells): bucket q lists ``owner[start[q]:start[q + 1]]``, every piece
-        within a cell of it (`slicelab.geometry.spatial.SegmentIndex.piece_buckets`).
-
-    Returns
-    -------
-    values : (n, B, B) float32 ndarray
-        The distance (mm) in material, `deep` where it is farther, -p/2 outside.
-    exact : int
-        How many pixels hold a distance below `deep`.
-    """
-    n, b = inside.shape[0], inside.shape[1]
-    out = np.empty((n, b, b), np.float32)
-    outside = np.float32(-0.5 * p)
-    top = np.float32(deep)
-    exact = 0
-    most = 0
-    for q in range(len(start) - 1):
-        most = max(most, start[q + 1] - start[q])
-    # The candidates of the bucket at hand, gathered into contiguous arrays: pixels in the
-    # same bucket (a run of a row) share them.
-    ax, ay = np.empty(most), np.empty(most)
-    dx, dy, inv = np.empty(most), np.empty(most), np.empty(most)
-    bcol = np.empty(b, np.int64)
-    for k in range(n):
-        for c in range(b):
-            bcol[c] = int(np.floor((cols0[k] + c) * p / cell)) - ox
-        for r in range(b):
-            y = (rows0[k] + r) * p
-            by = int(np.floor(y / cell)) - oy
-            held = -1
-            count = 0
-            for c in range(b):
-                if not inside[k, r, c]:
-                    out[k, r, c] = outside
-                    continue
-                bx = bcol[c]
-                if bx < 0 or bx >= width or by < 0 or by >= height:
-                    out[k, r, c] = top
-                    continue
-                key = by * width + bx
-                if key != held:
-                    held = key
-                    count = start[key + 1] - start[key]
-                    for u in range(count):
-                        sgm = owner[start[key] + u]
-                        ax[u], ay[u] = pieces[sgm, 0, 0], pieces[sgm, 0, 1]
-                        dx[u], dy[u] = pieces[sgm, 1, 0] - ax[u], pieces[sgm, 1, 1] - ay[u]
-                        den = dx[u] * dx[u] + dy[u] * dy[u]
-                        inv[u] = 1.0 / den if den > 0 else 0.0
-                x = (cols0[k] + c) * p
-                low = np.inf
-                for u in range(count):
-                    wx, wy = x - ax[u], y - ay[u]
-                    t = min(max((wx * dx[u] + wy * dy[u]) * inv[u], 0.0), 1.0)
-                    ex, ey = wx - t * dx[u], wy - t * dy[u]
-                    low = min(low, ex * ex + ey * ey)
-                d = np.sqrt(low)
-                if d < deep:
-                    out[k, r, c] = d
-                    exact += 1
-                else:
-                    out[k, r, c] = top
-    return out, exact
-
-
-@njit(cache=True, nogil=True)
-def cut_at_crossings(pieces, edges):
-    """Each piece cut where an edge crosses its interior: the parts, in order along each piece.
-
-    A crossing is where the piece's open interior (0 < t < 1) meets an edge,
-    ends included; parallel edges never cross. A piece no edge crosses comes
-    back whole.
-
-    Parameters
-    ----------
-    pieces, edges : (m, 2, 2), (e, 2, 2) float64 ndarray
-
-    Returns
-    -------
-    (k, 2, 2) float64 ndarray
-    """
-    m, ne = len(pieces), len(edges)
-    cap = 2 * m + 16
-    out = np.empty((cap, 2, 2))
-    o = 0
-    ts = np.empty(ne + 2)
-    for i in range(m):
-        ax, ay = pieces[i, 0, 0], pieces[i, 0, 1]
-        dx, dy = pieces[i, 1, 0] - ax, pieces[i, 1, 1] - ay
-        xlo, xhi = min(ax, ax + dx), max(ax, ax + dx)
-        ylo, yhi = min(ay, ay + dy), max(ay, ay + dy)
-        nt = 0
-        ts[nt] = 0.0
-        nt += 1
-        for j in range(ne):
-            cx, cy = edges[j, 0, 0], edges[j, 0, 1]
-            ex, ey = edges[j, 1, 0] - cx, edges[j, 1, 1] - cy
-            if max(cx, cx + ex) < xlo or min(cx, cx + ex) > xhi or max(cy, cy + ey) < ylo \
-                    or min(cy, cy + ey) > yhi:
-                continue
-            den = dx * ey - dy * ex
-            if den == 0:
-                continue
-            wx, wy = cx - ax, cy - ay
-            t = (wx * ey - wy * ex) / den
-            u = (wx * dy - wy * dx) / den
-            if 0 < t < 1 and 0 <= u <= 1:
-                ts[nt] = t
-                nt += 1
-        ts[nt] = 1.0
-        nt += 1
-        cuts = np.sort(ts[:nt])
-        for h in range(nt - 1):
-            t0, t1 = cuts[h], cuts[h + 1]
-            if not t1 > t0:
-                continue
-            if o >= cap:
-                cap *= 2
-                out = _grown(out, cap)
-            out[o, 0, 0], out[o, 0, 1] = ax + t0 * dx, ay + t0 * dy
-            out[o, 1, 0], out[o, 1, 1] = ax + t1 * dx, ay + t1 * dy
-            o += 1
-    return out[:o]
-
-
-@njit(cache=True, nogil=True)
-def winding_at(points, edges):
-    """Winding number of each point with respect to oriented edges (material on their left).
-
-    A horizontal ray to +x from the point counts +1 for each upward edge it
-    crosses with the point on the edge's left, -1 for each downward edge with
-    the point on its right; an edge spans ``ymin <= y < ymax``, so a vertex on
-    the ray is counted once. A counter-clockwise loop's inside gets +1.
-    """
-    out = np.zeros(len(points), np.int64)
-    for i in range(len(points)):
-        px, py = points[i, 0], points[i, 1]
-        w = 0
-        for j in range(len(edges)):
-            x0, y0, x1, y1 = edges[j, 0, 0], edges[j, 0, 1], edges[j, 1, 0], edges[j, 1, 1]
-            side = (x1 - x0) * (py - y0) - (px - x0) * (y1 - y0)
-            if y0 <= py < y1 and side > 0:
-                w += 1
-            elif y1 <= py < y0 and side < 0:
-                w -= 1
-        out[i] = w
-    return out
-
-
-@njit(cache=True, nogil=True)
 def row_prefix(steps, base):
     """Running sums along the rows of (n, B, B) `steps`, in place, each row starting from `base[k, r]`."""
     n, b, w = steps.shape
@@ -628,51 +432,6 @@ def row_prefix(steps, base):
             for c in range(w):
                 acc += steps[k, r, c]
                 steps[k, r, c] = acc
-
-
-@njit(cache=True, nogil=True)
-def douglas_peucker(points, keep, tolerance):
-    """Douglas-Peucker on concatenated polylines: `keep` with the vertices the simplification needs.
-
-    Between two consecutive kept vertices, the vertex farthest from their
-    chord *segment* (the first, on ties) is kept when it lies beyond
-    `tolerance`, recursively (an explicit stack, no recursion).
-    """
-    out = keep.copy()
-    n = len(points)
-    kept = np.flatnonzero(keep)
-    stack = np.empty((n + 1, 2), np.int64)
-    top = 0
-    for u in range(len(kept) - 1):
-        if kept[u + 1] - kept[u] > 1:
-            stack[top, 0] = kept[u]
-            stack[top, 1] = kept[u + 1]
-            top += 1
-    while top > 0:
-        top -= 1
-        a, b = stack[top, 0], stack[top, 1]
-        ax, ay = points[a, 0], points[a, 1]
-        dx, dy = points[b, 0] - ax, points[b, 1] - ay
-        den = dx * dx + dy * dy
-        far, at = -1.0, -1
-        for i in range(a + 1, b):
-            wx, wy = points[i, 0] - ax, points[i, 1] - ay
-            t = 0.0
-            if den > 0:
-                t = min(max((wx * dx + wy * dy) / den, 0.0), 1.0)
-            ex, ey = wx - t * dx, wy - t * dy
-            d = np.sqrt(ex * ex + ey * ey)
-            if d > far:
-                far, at = d, i
-        if far > tolerance:
-            out[at] = True
-            if at - a > 1:
-                stack[top, 0], stack[top, 1] = a, at
-                top += 1
-            if b - at > 1:
-                stack[top, 0], stack[top, 1] = at, b
-                top += 1
-    return out
 
 
 def warm() -> None:
@@ -688,6 +447,7 @@ def warm() -> None:
     >>> len(march_cells.signatures) >= 2
     True
     """
+    from .segment_kernels import band_distances, cut_at_crossings, douglas_peucker, nearest_in_buckets, winding_at
     i64 = np.zeros(1, np.int64)
     nb = np.full((3, 3, 1), 1, np.int64)
     for dtype in (np.float32, np.float64):

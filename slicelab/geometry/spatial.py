@@ -102,7 +102,7 @@ def simplify_chains(segments: np.ndarray, tolerance: float) -> np.ndarray:
     >>> len(seg), len(out), out[0, 0].tolist(), out[-1, 1].round(9).tolist()
     (90, 26, [10.0, 0.0], [0.0, 10.0])
     """
-    from .kernels import douglas_peucker
+    from .segment_kernels import douglas_peucker
     seg = np.asarray(segments, np.float64).reshape(-1, 2, 2)
     if len(seg) < 2 or tolerance <= 0:
         return seg
@@ -270,7 +270,7 @@ class SegmentIndex:
         count = np.where(inside, np.searchsorted(key, qk, side="right") - start, 0)
         if count.sum() > 64 * len(q) + 4096:
             return None
-        from .kernels import nearest_in_buckets
+        from .segment_kernels import nearest_in_buckets
         # One compiled loop over each point's candidates: the first reaching the smallest wins.
         dist, best, tt = nearest_in_buckets(q, start, count, owner, self.segments)
         far = dist > reach

@@ -146,7 +146,7 @@ def distance_field(tile: BlockMask, index: SegmentIndex | None, levels, *, depth
     Each material pixel of the tile's active blocks gets the distance from its
     centre to the nearest boundary segment, found among the segments' pieces
     listed in its bucket (`SegmentIndex.piece_buckets`) by one compiled loop
-    (`slicelab.geometry.kernels.band_distances`); pixels farther than the
+    (`slicelab.geometry.segment_kernels.band_distances`); pixels farther than the
     depth take `DistanceField.deep`. The contours that marching squares
     interpolates between pixels then lie on the true offsets. Without an
     index, OpenCV's chamfer distance between pixel centres stands in
@@ -186,7 +186,7 @@ def distance_field(tile: BlockMask, index: SegmentIndex | None, levels, *, depth
     >>> round(float(f.values[i, j]), 6), f.refined > 0
     (0.3, True)
     """
-    from ..geometry.kernels import band_distances
+    from ..geometry.segment_kernels import band_distances
     p = tile.pixel_size
     levels = [float(v) for v in levels]
     depth = max(levels, default=0.0) if depth is None else float(depth)

@@ -349,7 +349,7 @@ def _exposed(pieces, edges, tile, rule: str = "nonzero") -> np.ndarray:
     mixed = np.flatnonzero((votes[0] != votes[1]) | (votes[1] != votes[2]))
     out = [pieces[votes[0] & votes[1] & votes[2]]]
     if len(mixed):
-        from ..geometry.kernels import cut_at_crossings
+        from ..geometry.segment_kernels import cut_at_crossings
         # Every crossed piece cut at its crossings in one compiled loop (edges whose boxes miss
         # the piece's are passed over), each part then judged on its own.
         parts = cut_at_crossings(np.ascontiguousarray(pieces[mixed]), np.ascontiguousarray(edges, np.float64))
@@ -364,7 +364,7 @@ def _bounding(pieces, edges, tile, rule: str, at: float = 0.5) -> np.ndarray:
     of material or of void thinner than 3 px lies there, or the piece is buried in another
     shell), the loops' winding numbers a hair either side of the point decide exactly.
     """
-    from ..geometry.kernels import winding_at
+    from ..geometry.segment_kernels import winding_at
     p = tile.pixel_size
     d = pieces[:, 1] - pieces[:, 0]
     length = np.hypot(d[:, 0], d[:, 1])

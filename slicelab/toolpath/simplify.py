@@ -10,7 +10,7 @@ lies within the tolerance of the result.
 The simplification is Douglas-Peucker's, with the distance to the chord
 *segment* (not to its infinite line, as OpenCV's ``approxPolyDP`` measures:
 that drops a path doubling back on itself), and it runs on every polyline of a
-layer at once, in one compiled loop (`slicelab.geometry.kernels.douglas_peucker`)
+layer at once, in one compiled loop (`slicelab.geometry.segment_kernels.douglas_peucker`)
 that splits each interval at its farthest vertex, with an explicit stack. A
 closed polyline (last point equal to the first) keeps its first point, the seam.
 
@@ -60,7 +60,7 @@ def simplify_mask(points: np.ndarray, keep: np.ndarray, tolerance: float) -> np.
     >>> simplify_mask(pts, ends, 0.05).astype(int).tolist()   # the point 3 mm back along the line stays
     [1, 0, 1, 1, 1, 1, 1]
     """
-    from ..geometry.kernels import douglas_peucker
+    from ..geometry.segment_kernels import douglas_peucker
     pts = np.ascontiguousarray(points, np.float64)
     return douglas_peucker(pts, np.ascontiguousarray(keep, bool), float(tolerance))
 
