@@ -22,6 +22,7 @@ import math
 import os
 import sys
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -135,14 +136,15 @@ class PrintPlan:
     def z(self) -> np.ndarray:
         return np.array([lp.z for lp in self.layers])
 
-    @property
+    @cached_property
     def extruded_volume(self) -> float:
-        """Volume of all extrusions, width x layer height x length (mm^3)."""
+        """Volume of all extrusions, width x layer height x length (mm^3); summed once (the plan's
+        layers do not change)."""
         return float(sum(lp.extruded_area() * h for lp, h in zip(self.layers, self.heights)))
 
-    @property
+    @cached_property
     def print_length(self) -> float:
-        """Total length of the extrusion paths (mm)."""
+        """Total length of the extrusion paths (mm), summed once."""
         return float(sum(lp.extrusion_length for lp in self.layers))
 
     @property
