@@ -173,3 +173,23 @@ def test_empty_section_gives_empty_paths():
     assert lp.filling_segments == [] and lp.external_contour_segments == []
     with pytest.raises(ValueError, match="density"):
         layer_paths(section_of([rect(0, 0, 1, 1)]), infill_density=1.5)
+
+
+def test_rectilinear_leaves_out_stubs_at_corners():
+    # Lines at 45 degrees across a square graze its corners: pieces shorter than a quarter of
+    # the spacing would be stubs of a few hundredths of a millimetre; none is laid, and the
+    # rest of the square is still filled.
+    from slicelab.geometry.polygons import Polygon
+    from slicelab.toolpath.infill import rectilinear
+    sq = Polygon(np.array([[0, 0], [8, 0], [8, 8], [0, 8]], float) + 0.013, (), 0)
+    spacing = 0.4
+    paths = rectilinear([sq], spacing, 45.0)
+    along = []
+    for q in paths:
+        d = np.diff(q, axis=0)
+        length = np.hypot(*d.T)
+        diagonal = np.abs(np.abs(d[:, 0]) - np.abs(d[:, 1])) < 1e-6 * np.maximum(length, 1e-12)
+        along.append(length[diagonal & (np.sign(d[:, 0]) == np.sign(d[:, 1]))])
+    pieces = np.concatenate(along)
+    assert pieces.min() >= 0.25 * spacing
+    assert abs(pieces.sum() * spacing - 64.0) < 0.02 * 64.0

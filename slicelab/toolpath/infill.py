@@ -154,7 +154,7 @@ def _ring_path(ring: np.ndarray, e0: int, t0: float, e1: int, t1: float, forward
 
 
 def rectilinear(polygons: list[Polygon], spacing: float, angle: float = 45.0, *,
-                max_link: float | None = None) -> list[np.ndarray]:
+                max_link: float | None = None, min_length: float | None = None) -> list[np.ndarray]:
     """Fill polygons with parallel lines linked into zigzags.
 
     Parameters
@@ -167,6 +167,10 @@ def rectilinear(polygons: list[Polygon], spacing: float, angle: float = 45.0, *,
     max_link : float, optional
         Longest stretch of boundary a link may follow (default 3 spacings,
         at least 3 mm).
+    min_length : float, optional
+        Line pieces shorter than this are left out (default a quarter of the
+        spacing): a line grazing a corner of the region would only lay a stub
+        (a move of a few hundredths of a millimetre).
 
     Returns
     -------
@@ -189,6 +193,7 @@ def rectilinear(polygons: list[Polygon], spacing: float, angle: float = 45.0, *,
     if len(f.start) == 0:
         return []
     max_link = max(3 * spacing, 3.0) if max_link is None else max_link
+    min_length = 0.25 * spacing if min_length is None else min_length
     n_cross = len(f.xc)
     interval_of = np.full(n_cross, -1, np.int64)
     interval_of[f.start] = np.arange(len(f.start))
@@ -214,7 +219,8 @@ def rectilinear(polygons: list[Polygon], spacing: float, angle: float = 45.0, *,
             prev_c[o] = np.roll(o, 1)
     pts = np.stack([f.xc, f.yc], 1)
 
-    used = np.zeros(len(f.start), bool)
+    # Stubs count as used: no path starts on one and no link goes to one.
+    used = np.abs(f.xc[f.end] - f.xc[f.start]) < min_length
     paths = []
     inv = f.rot  # rows are the frame axes: frame -> world is p @ rot
     for i0 in np.lexsort((f.xc[f.start], f.line)):  # over intervals: start at the lowest line

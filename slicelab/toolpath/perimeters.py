@@ -364,7 +364,7 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
         # mask is taken half a pixel lower, as its pixels' centres lie inside the level set.
         fill_mask = _opened(fld, fill_level - 0.5 * p, 0.5 * w)
         lowered = np.where(fill_mask, fld.blocks, np.minimum(fld.blocks, np.float32(fill_level - 0.6 * p)))
-        fill_rings += level_rings(fld, fill_level, tolerance=0.5 * p, values=lowered)
+        fill_rings += level_rings(fld, fill_level, tolerance=0.5 * p, values=lowered, index=index)
         if solid is not None:
             fill_px, solid_px = (a + b for a, b in zip((fill_px, solid_px), _solid_share(fld, fill_mask, solid)))
         unc = uncovered_blocks(fld, fill_mask, levels, w)
