@@ -181,15 +181,20 @@ def test_rectilinear_leaves_out_stubs_at_corners():
     # rest of the square is still filled.
     from slicelab.geometry.polygons import Polygon
     from slicelab.toolpath.infill import rectilinear
-    sq = Polygon(np.array([[0, 0], [8, 0], [8, 8], [0, 8]], float) + 0.013, (), 0)
+    # The lower left corner lies 0.03 mm off a line: without the rule, a 0.054 mm stub.
+    sq = Polygon(np.array([[0, 0], [8, 0], [8, 8], [0, 8]], float) + [0.013, 0.055], (), 0)
     spacing = 0.4
-    paths = rectilinear([sq], spacing, 45.0)
-    along = []
-    for q in paths:
-        d = np.diff(q, axis=0)
-        length = np.hypot(*d.T)
-        diagonal = np.abs(np.abs(d[:, 0]) - np.abs(d[:, 1])) < 1e-6 * np.maximum(length, 1e-12)
-        along.append(length[diagonal & (np.sign(d[:, 0]) == np.sign(d[:, 1]))])
-    pieces = np.concatenate(along)
-    assert pieces.min() >= 0.25 * spacing
-    assert abs(pieces.sum() * spacing - 64.0) < 0.02 * 64.0
+
+    def pieces(**kw):  # the lengths of the line pieces (segments along the lines' direction)
+        along = []
+        for q in rectilinear([sq], spacing, 45.0, **kw):
+            d = np.diff(q, axis=0)
+            length = np.hypot(*d.T)
+            diagonal = (length > 1e-9) & (np.abs(np.abs(d[:, 0]) - np.abs(d[:, 1])) < 1e-6 * length)
+            along.append(length[diagonal & (np.sign(d[:, 0]) == np.sign(d[:, 1]))])
+        return np.concatenate(along)
+
+    assert pieces(min_length=0.0).min() < 0.06
+    kept = pieces()
+    assert kept.min() >= 0.25 * spacing
+    assert abs(kept.sum() * spacing - 64.0) < 0.02 * 64.0
