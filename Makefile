@@ -10,12 +10,18 @@ PYTEST_ARGS ?=
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 
+# After installing, the compiled kernels are built once (numba's disk cache, about 20 s), as an
+# install would: no later run, test worker or pool process compiles them again.
+WARM := $(BIN)/python -c "from slicelab.geometry import kernels; kernels.warm()"
+
 $(VENV)/.installed: pyproject.toml | $(BIN)/python
 	$(PIP) -e .
+	$(WARM)
 	touch $@
 
 $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
 	$(PIP) -e '.[dev]'
+	$(WARM)
 	touch $@ $(VENV)/.installed
 
 data: $(VENV)/.installed
