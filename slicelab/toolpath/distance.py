@@ -85,6 +85,19 @@ class DistanceField:
         v = self.blocks if values is None else values
         return self.grid.blocks.mosaic(v, halo, v.dtype.type(self.outside), v.dtype.type(self.deep))
 
+    def wide_mosaic(self, halo: int) -> tuple[np.ndarray, int]:
+        """The field's mosaic with a halo of at least `halo` pixels, and that halo: made once and
+        shared by the filters that read no further (a filter reading r pixels needs a halo >= r)."""
+        for h, image in self._wide.items():
+            if h >= halo:
+                return image, h
+        self._wide[halo] = self.mosaic(halo)
+        return self._wide[halo], halo
+
+    @cached_property
+    def _wide(self) -> dict:
+        return {}
+
 
 def signed_mask_distance(mask: np.ndarray, pixel_size: float, *, outside: bool = True,
                          precise: bool = True) -> np.ndarray:

@@ -141,7 +141,7 @@ def uncovered_blocks(field, fill: np.ndarray, levels, w: float) -> np.ndarray:
         return np.zeros(values.shape, bool)
     p = field.grid.pixel_size
     kernel = disc(0.5 * w / p + 1)  # +1 px: rounding
-    r = kernel.shape[0] // 2
+    image, r = field.wide_mosaic(kernel.shape[0] // 2)  # its halo r reaches at least the disc's radius
 
     def grown(image):  # dilated by the disc, the blocks' own pixels
         return g.cores(cv2.dilate(image, kernel), r)
@@ -150,7 +150,6 @@ def uncovered_blocks(field, fill: np.ndarray, levels, w: float) -> np.ndarray:
     zone = inside & (values >= 0) & (values < top)
     level = np.minimum(np.floor(values / w), n_lv - 1)  # float32, as the thresholds below
     uncovered = (values >= top) & inside
-    image = field.mosaic(r)
     for j in range(n_lv):  # over levels: is level j within w/2 of its zone's pixels?
         need = np.float32(j + 0.5) * np.float32(w) - np.float32(1e-6)
         reach = grown(cv2.compare(image, float(need), cv2.CMP_GE)).view(bool)

@@ -227,9 +227,9 @@ def _opened(field, level: float, radius: float) -> np.ndarray:
     import cv2
     p = field.grid.pixel_size
     kernel = disc(radius / p + 1.5)
-    r = kernel.shape[0] // 2
-    core = cv2.compare(field.mosaic(r), float(level + radius), cv2.CMP_GE)
-    region = field.grid.blocks.cores(cv2.dilate(core, kernel), r).view(bool)
+    image, h = field.wide_mosaic(kernel.shape[0] // 2)
+    core = cv2.compare(image, float(level + radius), cv2.CMP_GE)
+    region = field.grid.blocks.cores(cv2.dilate(core, kernel), h).view(bool)
     return region & (field.blocks >= level)
 
 

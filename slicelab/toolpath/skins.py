@@ -54,19 +54,24 @@ def layer_skins(k: int, masks: dict, skins: Skins, line_width: float):
     >>> solid, top = layer_skins(0, masks, Skins(top_layers=2, bottom_layers=2), 0.4)
     >>> round(solid.area, 2), top                     # the bottom: all of it, nothing exposed above
     (16.0, None)
+    >>> layer_skins(5, masks, Skins(top_layers=0, bottom_layers=2), 0.4)   # no top skins asked for
+    (None, None)
     """
     mine = masks.get(k)
     if mine is None:
         return None, None
     parts = []
     for rng in (range(k + 1, k + 1 + skins.top_layers), range(k - 1, k - 1 - skins.bottom_layers, -1)):
-        covered = mine
+        if not len(rng):  # no skin asked on this side
+            parts.append(mine - mine)
+            continue
+        covered = None  # what all the layers of the range hold (None: one of them is empty)
         for j in rng:  # over the few neighbouring layers
             other = masks.get(j)
             if other is None:
                 covered = None
                 break
-            covered = covered & other
+            covered = other if covered is None else covered & other
         parts.append(mine if covered is None else mine - covered)
     top, bottom = parts
     skin = top | bottom
