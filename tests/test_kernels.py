@@ -205,3 +205,20 @@ def test_simplify_chains_keeps_every_vertex_within_tolerance_and_runs_apart():
     assert all(owner[tuple(a)] == owner[tuple(b)] for a, b in out)
     ends = {tuple(x) for s in out for x in s}
     assert all(tuple(r[0]) in ends and tuple(r[-1]) in ends for r in runs)
+
+
+def test_march_cells_asks_for_more_room_rather_than_losing_segments():
+    from slicelab.geometry.kernels import march_cells
+    b = 8
+    v = _field(4)
+    g = BlockGrid(b, 0, 0, np.arange(6 * 7).reshape(6, 7))
+    data = np.stack([v[i * b:(i + 1) * b, j * b:(j + 1) * b] for i in range(6) for j in range(7)])
+    image = g.mosaic(data, 1, np.float32(-9), np.float32(9))
+    rows0, cols0 = g.origins()
+    args = (image, float(np.median(v)), b, image.shape[1] // (b + 2), g.neighbours, rows0, cols0, -1, -1, 7 * b + 3)
+    start, end, points, complete = march_cells(*args, 100000)
+    assert complete and len(start) > 100
+    few = march_cells(*args, len(start) // 2)
+    assert not few[3] and len(few[0]) == 0
+    # The contours through the public entry point are the same whatever room it starts with.
+    assert sum(len(r) for r in contours.march_blocks(image, float(np.median(v)), g)) <= len(start)

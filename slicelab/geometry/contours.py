@@ -162,8 +162,14 @@ def march_blocks(image: np.ndarray, level: float, grid: BlockGrid) -> list[np.nd
     rows0, cols0 = grid.origins()
     # Crossings are keyed by their pixel edge on the whole grid (with a pixel to spare around
     # it), so the segments of neighbouring blocks chain as if the grid were one array.
-    start, end, points = march_cells(flat, float(level), b, m, grid.neighbours, rows0, cols0,
-                                     grid.row0 * b - 1, grid.col0 * b - 1, grid.table.shape[1] * b + 3)
+    cap = max(1024, 4 * n * b)  # a contour crosses a block in about B cells: rarely exceeded
+    while True:  # once, but for a block crossed many times over
+        start, end, points, complete = march_cells(flat, float(level), b, m, grid.neighbours, rows0, cols0,
+                                                   grid.row0 * b - 1, grid.col0 * b - 1, grid.table.shape[1] * b + 3,
+                                                   cap)
+        if complete:
+            break
+        cap *= 4
     ring_points, bounds = closed_cycles(start, end, points)
     return [ring_points[bounds[i]:bounds[i + 1]] for i in range(len(bounds) - 1)]
 

@@ -52,7 +52,7 @@ def _owned(r, c, b, nb, k, n):
 
 
 @njit(cache=True, nogil=True)
-def march_cells(flat, level, b, m, nb, rows0, cols0, r_origin, c_origin, width):
+def march_cells(flat, level, b, m, nb, rows0, cols0, r_origin, c_origin, width, cap):
     """Marching-squares segments of the blocks laid side by side in `flat`, keyed by world pixel edge.
 
     Parameters
@@ -69,6 +69,9 @@ def march_cells(flat, level, b, m, nb, rows0, cols0, r_origin, c_origin, width):
     r_origin, c_origin, width : int
         The world pixel edge from (R, C) to its right (down) neighbour is keyed
         ``2 ((R - r_origin) width + C - c_origin)`` (plus 1).
+    cap : int
+        Room for this many segments: the buffers never move during the loop
+        (several times faster in numba than growing them).
 
     Returns
     -------
@@ -76,12 +79,13 @@ def march_cells(flat, level, b, m, nb, rows0, cols0, r_origin, c_origin, width):
         Keys of the pixel edges each segment starts and ends on.
     points : (s, 2) float64 ndarray
         Each segment's start (row, col), interpolated along its pixel edge.
+    complete : bool
+        False if there were more than `cap` segments (call again with more room).
 
     Segments keep the high side on their left; saddles join the high corners.
     """
     n = nb.shape[2]
     q = b + 2
-    cap = max(1024, 4 * n * b)  # a contour crosses a block in about B cells: rarely exceeded
     start = np.empty(cap, np.int64)
     end = np.empty(cap, np.int64)
     points = np.empty((cap, 2), np.float64)
@@ -107,73 +111,62 @@ def march_cells(flat, level, b, m, nb, rows0, cols0, r_origin, c_origin, width):
                 corners = above[up, j] + above[up, j + 1] + above[lo, j] + above[lo, j + 1]
                 if corners == 0 or corners == 4:
                     continue
+                r, c = i - 1, j - 1
+                if (r < 0 or c < 0) and not _owned(r, c, b, nb, k, n):
+                    continue
                 cu, cr, cl, cw = above[up, j] == 1, above[up, j + 1] == 1, above[lo, j] == 1, above[lo, j + 1] == 1
                 vu = np.float64(flat[y0 + i, x0 + j])
                 vr = np.float64(flat[y0 + i, x0 + j + 1])
                 vl = np.float64(flat[y0 + i + 1, x0 + j])
                 vw = np.float64(flat[y0 + i + 1, x0 + j + 1])
-                r, c = i - 1, j - 1
-                if not _owned(r, c, b, nb, k, n):
-                    continue
-                saddle = cu == cw and cr == cl
-                if s + 2 > cap:  # grow the buffers
-                    cap *= 2
-                    start = _grown(start, cap)
-                    end = _grown(end, cap)
-                    points = _grown(points, cap)
+                if s + 2 > cap:  # out of room: the caller asks again with more
+                    return start[:0], end[:0], points[:0], False
                 R, C = rows0[k] + r, cols0[k] + c
                 base = 2 * ((R - r_origin) * width + (C - c_origin))
-                # Edge keys: top, right, bottom, left.
-                keys = (base, base + 2 + 1, base + 2 * width, base + 1)
-                if saddle:
-                    if not cu:  # low upper left: left -> top, right -> bottom
-                        e0, f0, e1, f1 = 3, 0, 1, 2
-                    else:  # low upper right: top -> right, bottom -> left
-                        e0, f0, e1, f1 = 0, 1, 2, 3
-                    pairs = ((e0, f0), (e1, f1))
-                    npair = 2
-                else:
-                    # Walk the border counter-clockwise (top, right, bottom, left edges): the
-                    # segment starts where the walk leaves the high side and ends where it comes back.
-                    e0 = _first(cu and not cr, cr and not cw, cw and not cl)
-                    f0 = _first(cr and not cu, cw and not cr, cl and not cw)
-                    pairs = ((e0, f0), (e0, f0))
-                    npair = 1
-                for h in range(npair):
-                    e, f = pairs[h]
-                    start[s] = keys[e]
-                    end[s] = keys[f]
+                saddle = cu == cw and cr == cl
+                # Straight-line code, no tuples indexed at run time (several times slower in numba).
+                for h in range(2 if saddle else 1):
+                    if saddle:  # low upper left: left -> top, right -> bottom; else top -> right, bottom -> left
+                        if not cu:
+                            e, f = (3, 0) if h == 0 else (1, 2)
+                        else:
+                            e, f = (0, 1) if h == 0 else (2, 3)
+                    else:
+                        # Walk the border counter-clockwise (top, right, bottom, left edges): the
+                        # segment starts where the walk leaves the high side and ends where it comes back.
+                        e = _first(cu and not cr, cr and not cw, cw and not cl)
+                        f = _first(cr and not cu, cw and not cr, cl and not cw)
+                    start[s] = _edge_key(base, e, width)
+                    end[s] = _edge_key(base, f, width)
                     # Along the start edge, from its first pixel to its second.
                     if e == 0:
-                        a0, a1 = vu, vr
+                        points[s, 0], points[s, 1] = R, C + (level - vu) / (vr - vu)
                     elif e == 1:
-                        a0, a1 = vr, vw
+                        points[s, 0], points[s, 1] = R + (level - vr) / (vw - vr), C + 1.0
                     elif e == 2:
-                        a0, a1 = vl, vw
+                        points[s, 0], points[s, 1] = R + 1.0, C + (level - vl) / (vw - vl)
                     else:
-                        a0, a1 = vu, vl
-                    t = (level - a0) / (a1 - a0)
-                    if e == 1 or e == 3:
-                        points[s, 0] = R + t
-                        points[s, 1] = C + (1.0 if e == 1 else 0.0)
-                    else:
-                        points[s, 0] = R + (1.0 if e == 2 else 0.0)
-                        points[s, 1] = C + t
+                        points[s, 0], points[s, 1] = R + (level - vu) / (vl - vu), C
                     s += 1
-    return start[:s], end[:s], points[:s]
+    return start[:s], end[:s], points[:s], True
+
+
+@njit(cache=True, nogil=True)
+def _edge_key(base, edge, width):
+    """Key of a cell's top (0), right (1), bottom (2) or left (3) pixel edge, from its top edge's key."""
+    if edge == 0:
+        return base
+    if edge == 1:
+        return base + 3
+    if edge == 2:
+        return base + 2 * width
+    return base + 1
 
 
 @njit(cache=True, nogil=True)
 def _first(top, right, bottom):
     """The first true edge of top (0), right (1), bottom (2), else left (3)."""
     return 0 if top else (1 if right else (2 if bottom else 3))
-
-
-@njit(cache=True, nogil=True)
-def _grown(a, cap):
-    out = np.empty((cap,) + a.shape[1:], a.dtype)
-    out[:len(a)] = a
-    return out
 
 
 @njit(cache=True, nogil=True)
@@ -451,7 +444,7 @@ def warm() -> None:
     i64 = np.zeros(1, np.int64)
     nb = np.full((3, 3, 1), 1, np.int64)
     for dtype in (np.float32, np.float64):
-        march_cells(np.zeros((3, 3), dtype), 0.5, 1, 1, nb, i64, i64, -1, -1, 4)
+        march_cells(np.zeros((3, 3), dtype), 0.5, 1, 1, nb, i64, i64, -1, -1, 4, 16)
     closed_cycles(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros((0, 2)))
     table = np.zeros((1, 1), np.int64)
     for dtype in (np.uint8, np.float32):
