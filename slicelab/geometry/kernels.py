@@ -170,8 +170,10 @@ def _first(top, right, bottom):
 
 
 @njit(cache=True, nogil=True)
-def _slot(key, mask):
-    return (key ^ (key >> 17) ^ (key >> 31)) & mask
+def _slot(key, bits):
+    """Fibonacci hashing: the top `bits` bits of key x 2^64 / phi. Keys of neighbouring pixel
+    edges (consecutive numbers) land far apart, so linear probing meets no long runs."""
+    return np.int64((np.uint64(key) * np.uint64(0x9E3779B97F4A7C15)) >> np.uint64(64 - bits))
 
 
 @njit(cache=True, nogil=True)
@@ -192,21 +194,22 @@ def closed_cycles(start, end, points):
     """
     m = len(start)
     # Which segment starts at each key: an open-addressing hash table, linear probing.
-    size = 1
+    size, bits = 2, 1
     while size < 2 * m + 2:
         size *= 2
+        bits += 1
     mask = size - 1
     slot_key = np.full(size, -1, np.int64)
     slot_seg = np.empty(size, np.int64)
     for i in range(m):
-        h = _slot(start[i], mask)
+        h = _slot(start[i], bits)
         while slot_key[h] != -1:
             h = (h + 1) & mask
         slot_key[h] = start[i]
         slot_seg[h] = i
     nxt = np.full(m, -1, np.int64)
     for i in range(m):
-        h = _slot(end[i], mask)
+        h = _slot(end[i], bits)
         while slot_key[h] != -1:
             if slot_key[h] == end[i]:
                 nxt[i] = slot_seg[h]
