@@ -230,6 +230,16 @@ def _snap_corners(ring: np.ndarray, level: float, index: SegmentIndex, p: float,
     long = np.flatnonzero(length >= 2 * p)
     if len(long) < 2:
         return ring
+    # Corners come only between long edges turning by more than `min_turn` with a few vertices
+    # between them: most rings (smooth curves, fine polygons) have none, and need no distances.
+    j2 = np.roll(np.arange(len(long)), -1)
+    run = (long[j2] - long) % n  # vertices long + 1 .. long[j2] lie between two long edges
+    d1 = e[long] / length[long][:, None]
+    d2 = d1[j2]
+    turn = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
+    sharp = (turn > np.sin(np.radians(min_turn))) & (run >= 1) & (run <= 10)
+    if not sharp.any():
+        return ring
     mid = ring[long] + 0.5 * e[long]
     dist, seg, _ = index.nearest(mid, reach=level + 2 * p)
     s = index.segments[seg]
@@ -243,16 +253,10 @@ def _snap_corners(ring: np.ndarray, level: float, index: SegmentIndex, p: float,
     exact = np.abs(dist - level) <= 0.25 * p
     origin = s[:, 0] + (side * level)[:, None] * nl  # a point of the exact offset line
 
-    j2 = np.roll(np.arange(len(long)), -1)
     e1, e2 = long, long[j2]
-    run = (e2 - e1) % n  # vertices e1+1 .. e2 lie between the two long edges
-    d1 = e[e1] / length[e1][:, None]
-    d2 = e[e2] / length[e2][:, None]
-    turn = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
     ua, ub = u, u[j2]
     den = ua[:, 0] * ub[:, 1] - ua[:, 1] * ub[:, 0]
-    cand = exact & exact[j2] & (turn > np.sin(np.radians(min_turn))) & (run >= 1) & (run <= 10) \
-        & (np.abs(den) > 1e-9)
+    cand = exact & exact[j2] & sharp & (np.abs(den) > 1e-9)
     if not cand.any():
         return ring
     c = np.flatnonzero(cand)
