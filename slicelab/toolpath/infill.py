@@ -220,37 +220,42 @@ def rectilinear(polygons: list[Polygon], spacing: float, angle: float = 45.0, *,
     pts = np.stack([f.xc, f.yc], 1)
 
     # Stubs count as used: no path starts on one and no link goes to one.
-    used = np.abs(f.xc[f.end] - f.xc[f.start]) < min_length
+    used = (np.abs(f.xc[f.end] - f.xc[f.start]) < min_length).tolist()
     paths = []
     inv = f.rot  # rows are the frame axes: frame -> world is p @ rot
-    for i0 in np.lexsort((f.xc[f.start], f.line)):  # over intervals: start at the lowest line
+    # The walk reads single entries, many times: Python lists answer those several times faster
+    # than numpy arrays.
+    nxt, prv, itv, oth = next_c.tolist(), prev_c.tolist(), interval_of.tolist(), other.tolist()
+    line, ring_of, edge, tt = f.line.tolist(), f.ring.tolist(), f.edge.tolist(), f.t.tolist()
+    arcs, perims, starts, ends = arc.tolist(), perim.tolist(), f.start.tolist(), f.end.tolist()
+    xy = pts.tolist()
+    for i0 in np.lexsort((f.xc[f.start], f.line)).tolist():  # over intervals: start at the lowest line
         if used[i0]:
             continue
         used[i0] = True
-        a, b = f.start[i0], f.end[i0]
-        path = [pts[a], pts[b]]
+        a, b = starts[i0], ends[i0]
+        path = [xy[a], xy[b]]
         cur, step = b, 0
         while True:  # over intervals of this zigzag
             best = None
-            for nb, forward in ((next_c[cur], True), (prev_c[cur], False)):
-                if nb < 0 or used[interval_of[nb]]:
+            for nb, forward in ((nxt[cur], True), (prv[cur], False)):
+                if nb < 0 or used[itv[nb]]:
                     continue
-                dk = f.line[interval_of[nb]] - f.line[interval_of[cur]]
+                dk = line[itv[nb]] - line[itv[cur]]
                 if abs(dk) != 1 or (step and dk != step):
                     continue
-                r = f.ring[cur]
-                length = (arc[nb] - arc[cur]) % perim[r] if forward else (arc[cur] - arc[nb]) % perim[r]
+                r = ring_of[cur]
+                length = (arcs[nb] - arcs[cur]) % perims[r] if forward else (arcs[cur] - arcs[nb]) % perims[r]
                 if length <= max_link and (best is None or length < best[0]):
                     best = (length, nb, forward, dk)
             if best is None:
                 break
             _, nb, forward, dk = best
-            r = f.ring[cur]
-            path += list(_ring_path(f.rings[r], f.edge[cur], f.t[cur], f.edge[nb], f.t[nb], forward))
-            j = interval_of[nb]
-            used[j] = True
-            far = other[nb]
-            path += [pts[nb], pts[far]]
+            r = ring_of[cur]
+            path += _ring_path(f.rings[r], edge[cur], tt[cur], edge[nb], tt[nb], forward).tolist()
+            used[itv[nb]] = True
+            far = oth[nb]
+            path += [xy[nb], xy[far]]
             cur, step = far, dk
         paths.append(np.asarray(path) @ inv)
     return paths
