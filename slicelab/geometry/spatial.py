@@ -122,6 +122,29 @@ def simplify_chains(segments: np.ndarray, tolerance: float) -> np.ndarray:
     return np.stack([pts[kept[:-1][same]], pts[kept[1:][same]]], axis=1)
 
 
+def _bucketed(lo: np.ndarray, hi: np.ndarray, cell: float, limit: int | None = None):
+    """Boxes [lo, hi], widened by a cell, listed in each square bucket of side `cell` they meet.
+
+    Returns (origin, width, height, keys, owners): bucket (col, row) of the grid is
+    ``cell (origin + (col, row))``, keyed ``row width + col``; the keys sorted, and the box each
+    entry lists. None if the entries would outnumber `limit`.
+    """
+    if len(lo) == 0:
+        return np.zeros(2, np.int64), 1, 1, np.zeros(0, np.int64), np.zeros(0, np.int64)
+    b0 = np.floor((lo - cell) / cell).astype(np.int64)
+    b1 = np.floor((hi + cell) / cell).astype(np.int64)
+    if limit is not None and ((b1[:, 0] - b0[:, 0] + 1) * (b1[:, 1] - b0[:, 1] + 1)).sum() > limit:
+        return None
+    origin = b0.min(axis=0)
+    width = int(b1[:, 0].max() - origin[0]) + 1
+    height = int(b1[:, 1].max() - origin[1]) + 1
+    box, rows = expand_ranges(b0[:, 1], b1[:, 1] - b0[:, 1] + 1)
+    j, cols = expand_ranges(b0[box, 0], (b1[:, 0] - b0[:, 0] + 1)[box])
+    key = (rows[j] - origin[1]) * width + (cols - origin[0])
+    order = np.argsort(key, kind="stable")
+    return origin, width, height, key[order], box[j][order]
+
+
 class SegmentIndex:
     """Exact nearest distances from points to a set of segments.
 
@@ -193,20 +216,10 @@ class SegmentIndex:
         if cached is not None and reach <= cached[0] <= 3 * reach:
             return cached
         cell = float(reach)
-        b0 = np.floor((self.lo - cell) / cell).astype(np.int64)
-        b1 = np.floor((self.hi + cell) / cell).astype(np.int64)
-        per_seg = (b1[:, 0] - b0[:, 0] + 1) * (b1[:, 1] - b0[:, 1] + 1)
-        origin = b0.min(axis=0)
-        width = int(b1[:, 0].max() - origin[0]) + 1
-        height = int(b1[:, 1].max() - origin[1]) + 1
-        if per_seg.sum() > 64 * len(self.segments) + 4096:
+        listed = _bucketed(self.lo, self.hi, cell, limit=64 * len(self.segments) + 4096)
+        if listed is None:
             return None
-        s_row, rows = expand_ranges(b0[:, 1], b1[:, 1] - b0[:, 1] + 1)
-        j, cols = expand_ranges(b0[s_row, 0], (b1[:, 0] - b0[:, 0] + 1)[s_row])
-        owner = s_row[j]
-        key = (rows[j] - origin[1]) * width + (cols - origin[0])
-        order = np.argsort(key, kind="stable")
-        self._bucket_cache = (cell, origin, width, height, key[order], owner[order])
+        self._bucket_cache = (cell, *listed)
         return self._bucket_cache
 
     def piece_buckets(self, cell: float):
@@ -239,18 +252,9 @@ class SegmentIndex:
             return cached[1]
         cell = float(cell)
         pieces, _ = split_segments(self.segments, cell)
-        b0 = np.floor((pieces.min(axis=1) - cell) / cell).astype(np.int64)
-        b1 = np.floor((pieces.max(axis=1) + cell) / cell).astype(np.int64)
-        origin = b0.min(axis=0) if len(pieces) else np.zeros(2, np.int64)
-        width = int(b1[:, 0].max() - origin[0]) + 1 if len(pieces) else 1
-        height = int(b1[:, 1].max() - origin[1]) + 1 if len(pieces) else 1
-        s_row, rows = expand_ranges(b0[:, 1], b1[:, 1] - b0[:, 1] + 1)
-        j, cols = expand_ranges(b0[s_row, 0], (b1[:, 0] - b0[:, 0] + 1)[s_row])
-        owner = s_row[j]
-        key = (rows[j] - origin[1]) * width + (cols - origin[0])
-        order = np.argsort(key, kind="stable")
-        start = np.searchsorted(key[order], np.arange(width * height + 1))
-        out = (origin, width, height, start, owner[order], np.ascontiguousarray(pieces))
+        origin, width, height, key, owner = _bucketed(pieces.min(axis=1), pieces.max(axis=1), cell)
+        start = np.searchsorted(key, np.arange(width * height + 1))
+        out = (origin, width, height, start, owner, np.ascontiguousarray(pieces))
         self._piece_cache = (cell, out)
         return out
 
