@@ -369,11 +369,14 @@ def _solid_gaps(per: Perimeters, fills: list, sparse: list, region: list):
     for fld in per.fields:  # over tiles
         g = fld.grid
         p = g.pixel_size
-        margin = int(np.ceil(1.5 * w / p)) + 3
-        r0 = max(g.row0, int(np.floor(lo[1] / p)) - margin)
-        c0 = max(g.col0, int(np.floor(lo[0] / p)) - margin)
-        r1 = min(g.row0 + g.shape[0], int(np.ceil(hi[1] / p)) + margin + 1)
-        c1 = min(g.col0 + g.shape[1], int(np.ceil(hi[0] / p)) + margin + 1)
+
+        def box(margin):  # world pixel rows and columns of the region's box widened by `margin` px
+            return (int(np.floor(lo[1] / p)) - margin, int(np.ceil(hi[1] / p)) + margin + 1,
+                    int(np.floor(lo[0] / p)) - margin, int(np.ceil(hi[0] / p)) + margin + 1)
+
+        r0, r1, c0, c1 = box(int(np.ceil(1.5 * w / p)) + 3)
+        r0, c0 = max(g.row0, r0), max(g.col0, c0)
+        r1, c1 = min(g.row0 + g.shape[0], r1), min(g.col0 + g.shape[1], c1)
         if r1 <= r0 or c1 <= c0:
             continue
         shape = (r1 - r0, c1 - c0)
@@ -389,10 +392,9 @@ def _solid_gaps(per: Perimeters, fills: list, sparse: list, region: list):
             uncovered &= near > 0.5 * w + p
         # Only the region's box, widened by what its lines' ends reach: there the distance to the
         # sparse region is exact (the margin holds every sparse pixel that near).
-        keep = int(np.ceil((0.5 * w + p) / p))
+        ir0, ir1, ic0, ic1 = box(int(np.ceil((0.5 * w + p) / p)))
         inner = np.zeros(shape, bool)
-        inner[max(0, int(np.floor(lo[1] / p)) - keep - r0):max(0, int(np.ceil(hi[1] / p)) + keep + 1 - r0),
-              max(0, int(np.floor(lo[0] / p)) - keep - c0):max(0, int(np.ceil(hi[0] / p)) + keep + 1 - c0)] = True
+        inner[max(0, ir0 - r0):max(0, ir1 - r0), max(0, ic0 - c0):max(0, ic1 - c0)] = True
         uncovered &= inner
         a, b = medial_fill(GridMask(uncovered, r0, c0, p), uncovered, w, 0.5 * w)
         out += a

@@ -366,7 +366,8 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
         lowered = np.where(fill_mask, fld.blocks, np.minimum(fld.blocks, np.float32(fill_level - 0.6 * p)))
         fill_rings += level_rings(fld, fill_level, tolerance=0.5 * p, values=lowered, index=index)
         if solid is not None:
-            fill_px, solid_px = (a + b for a, b in zip((fill_px, solid_px), _solid_share(fld, fill_mask, solid)))
+            total, held = _solid_share(fld, fill_mask, solid)
+            fill_px, solid_px = fill_px + total, solid_px + held
         unc = uncovered_blocks(fld, fill_mask, levels, w)
         g, gw = medial_fill_blocks(tile.blocks, unc, p, w, min_gap)
         gaps += g

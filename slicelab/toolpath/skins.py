@@ -13,6 +13,9 @@ slicelab.toolpath.paths.layer_paths : fills them solid (``solid``) and types the
 """
 from __future__ import annotations
 
+from functools import reduce
+from operator import and_
+
 from .masks import open_mask
 from .overhangs import Bridge
 from .settings import Skins
@@ -62,17 +65,11 @@ def layer_skins(k: int, masks: dict, skins: Skins, line_width: float):
         return None, None
     parts = []
     for rng in (range(k + 1, k + 1 + skins.top_layers), range(k - 1, k - 1 - skins.bottom_layers, -1)):
-        if not len(rng):  # no skin asked on this side
-            parts.append(mine - mine)
-            continue
-        covered = None  # what all the layers of the range hold (None: one of them is empty)
-        for j in rng:  # over the few neighbouring layers
-            other = masks.get(j)
-            if other is None:
-                covered = None
-                break
-            covered = other if covered is None else covered & other
-        parts.append(mine if covered is None else mine - covered)
+        others = [masks.get(j) for j in rng]  # the few neighbouring layers on this side
+        if any(o is None for o in others):  # one is empty (or beyond the part): all of it is skin
+            parts.append(mine)
+        else:  # skin is what they do not all hold (with none asked for, nothing)
+            parts.append(mine - reduce(and_, others) if others else mine - mine)
     top, bottom = parts
     skin = top | bottom
     if skin.area == 0:
