@@ -3,8 +3,10 @@
 The layers go through the planner's own per-run function (`slicelab.toolpath.planner`),
 runs of 20 layers with the neighbours their skins read, as a pool's worker gets them,
 with `slicelab slice`'s defaults and 3 top and bottom layers. Prints the milliseconds per
-layer (median of three passes, no profiler), then cProfile's functions by their own time
-and by cumulative time. No reference tool: this says where slicelab's time goes, and
+layer (median of three passes, no profiler), the milliseconds per layer of each stage (one
+more pass, each stage's function timed where the planner and the perimeters call it; the
+stages nest: the perimeters' parts are inside `layer_paths`), then cProfile's functions by
+their own time and by cumulative time. No reference tool: this says where slicelab's time goes, and
 `scripts/bench_slice.py` compares the whole command with PrusaSlicer. Cost: linear in the
 layers profiled.
 
@@ -20,6 +22,47 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+
+
+#: (stage, where it is called from): each is timed where its caller looks it up.
+STAGES = [("rasterize", "slicelab.toolpath.planner"), ("layer_skins", "slicelab.toolpath.planner"),
+          ("layer_overhangs", "slicelab.toolpath.planner"), ("layer_paths", "slicelab.toolpath.planner"),
+          ("distance_field", "slicelab.toolpath.perimeters"), ("level_rings", "slicelab.toolpath.perimeters"),
+          ("_opened", "slicelab.toolpath.perimeters"), ("uncovered_blocks", "slicelab.toolpath.perimeters"),
+          ("medial_fill_blocks", "slicelab.toolpath.perimeters"), ("split_by_mask", "slicelab.toolpath.perimeters"),
+          ("fill_pattern", "slicelab.toolpath.paths"), ("simplify_paths", "slicelab.toolpath.paths")]
+
+
+def stage_times(run, layers: int) -> list[tuple[str, float]]:
+    """Milliseconds per layer spent in each stage of `STAGES` during one call of `run`."""
+    import importlib
+    spent = {name: 0.0 for name, _ in STAGES}
+    saved = []
+    for name, module in STAGES:
+        mod = importlib.import_module(module)
+        # The planner imports its stages inside its run function: wrap them in their own modules.
+        home = mod if hasattr(mod, name) else importlib.import_module(f"slicelab.toolpath.{_HOME[name]}")
+        f = getattr(home, name)
+
+        def timed(*a, _f=f, _name=name, **k):
+            t = time.perf_counter()
+            try:
+                return _f(*a, **k)
+            finally:
+                spent[_name] += time.perf_counter() - t
+
+        saved.append((home, name, f))
+        setattr(home, name, timed)
+    try:
+        run()
+    finally:
+        for home, name, f in saved:
+            setattr(home, name, f)
+    return [(name, 1000 * spent[name] / layers) for name, _ in STAGES]
+
+
+#: Modules of the stages the planner imports when it runs.
+_HOME = {"rasterize": "raster", "layer_skins": "skins", "layer_overhangs": "overhangs", "layer_paths": "paths"}
 
 
 def main() -> None:
@@ -56,6 +99,9 @@ def main() -> None:
         times.append((time.perf_counter() - t) * 1000 / layers)
     print(f"{Path(args.mesh).name}: {layers} layers from {first}: {statistics.median(times):.1f} ms per layer "
           f"(median of 3, one process)")
+    print("ms per layer by stage (one pass; the perimeters' stages and the infill are part of layer_paths):")
+    for name, ms in stage_times(plan_runs, layers):
+        print(f"  {name:<20}{ms:7.2f}")
     prof = cProfile.Profile()
     prof.enable()
     plan_runs()
