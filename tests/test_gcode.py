@@ -468,3 +468,14 @@ def test_hole_walls_are_their_own_kind_printed_as_external_perimeters(cube):
     # The hole's loops are small perimeters (shorter than a 6.5 mm circle): slowed to cool.
     hole_block = [b for b in layer.split(";TYPE:")[1:] if b.startswith("External perimeter")][0]
     assert f"G1 F{60 * s.small_perimeter_speed:.0f}" in hole_block
+
+
+def test_gcode_formatted_by_a_pool_is_the_serial_file(tmp_path):
+    # Each layer is formatted from the nozzle position the layer before leaves: the pool's file,
+    # read back from disk, is the serial one byte for byte, and its totals are the same.
+    p = plan(cube_with_hole(), PrintSettings(layer_height=0.2, min_layer_time=30), workers=1)
+    assert len(p.layers) > 2 * 25  # more than one run of layers for the pool
+    one, two = tmp_path / "serial.gcode", tmp_path / "pool.gcode"
+    t1, t2 = write_gcode(p, one, workers=1), write_gcode(p, two, workers=2)
+    assert one.read_bytes() == two.read_bytes()
+    assert t1["seconds"] == t2["seconds"] and t1["filament"] == t2["filament"]
