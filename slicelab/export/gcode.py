@@ -149,8 +149,7 @@ def _layer_starts(plan) -> list:
         out.append((pos, at))
         z = lp.z + 0.0
         if lp.paths:
-            pos = lp.paths[-1] + off[:2]
-            pos = pos[-1]
+            pos = lp.paths[-1][-1] + off[:2]
             at = np.round([pos[0], pos[1], z], 3)
         else:
             at = np.round([at[0], at[1], z], 3)
