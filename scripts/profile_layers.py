@@ -74,9 +74,12 @@ def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("mesh", nargs="?", default=str(ROOT / "data" / "pot.stl"))
     ap.add_argument("--top", type=int, default=35)
+    ap.add_argument("--pixel-size", type=float, default=None, help="mm (default: slicelab's)")
     args = ap.parse_args()
     mesh = slicelab.load(args.mesh)
     s = PrintSettings(top_layers=3, bottom_layers=3)
+    if args.pixel_size:
+        s = PrintSettings(top_layers=3, bottom_layers=3, pixel_size=args.pixel_size)
     lo, hi = mesh.bounds
     bounds = planner.layer_bounds(float(hi[2] - lo[2]), s.layer_height, s.first_layer_height)
     sections = slice_layers(mesh, heights=lo[2] + bounds.mean(axis=1))

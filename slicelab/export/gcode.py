@@ -42,40 +42,45 @@ __all__ = ["write_gcode", "gcode_lines", "write_svgs", "layer_fan"]
 SMALL_PERIMETER = 2 * math.pi * 6.5
 
 
-def _fmt(xy: np.ndarray, e: np.ndarray) -> str:
-    # One %-format over the whole path: about twice as fast as a line at a time.
-    return ("G1 X%.3f Y%.3f E%.5f\n" * len(e) % tuple(np.column_stack([xy, e]).ravel().tolist()))[:-1]
+#: One extrusion move as written.
+_G1 = "G1 X%.3f Y%.3f E%.5f\n"
 
 
 class _Moves:
-    """The moves of a stretch of G-code as written (rounded like the text), for the time estimate."""
+    """The moves of a stretch of G-code as given (rounded like the text once, in `seconds`), for the
+    time estimate: rows of x, y, z, filament fed and feed rate (mm/s)."""
 
-    def __init__(self, pos: np.ndarray):
-        self.pos = self.start = np.asarray(pos, np.float64)
-        self.ends, self.e, self.feed = [], [], []
+    def __init__(self, pos):
+        self.start = np.asarray(pos, np.float64)
+        self.last = tuple(float(v) for v in self.start[:3])  # the last move's end, x, y, z
+        self.blocks, self.rows = [], []
 
-    def add(self, xyz, e, feed: float) -> None:
-        """Moves to the points `xyz` (one or (k, 3)), feeding `e` (each), at `feed` mm/s.
+    def point(self, x: float, y: float, z: float, e: float, feed: float) -> None:
+        """One move to (x, y, z)."""
+        self.rows.append((x, y, z, e, feed))
+        self.last = (x, y, z)
 
-        Kept as given: the rounding is done once per stretch, in `seconds`.
-        """
-        xyz = np.asarray(xyz, np.float64).reshape(-1, 3)
-        self.ends.append(xyz)
-        self.e.append(e if np.ndim(e) else np.full(len(xyz), float(e)))
-        self.feed.append(np.full(len(xyz), feed))
-        self.pos = np.round(xyz[-1], 3)
+    def block(self, rows: np.ndarray) -> None:
+        """Moves given as rows of (x, y, z, e, feed)."""
+        if self.rows:
+            self.blocks.append(np.array(self.rows, np.float64))
+            self.rows = []
+        self.blocks.append(rows)
+        self.last = (float(rows[-1, 0]), float(rows[-1, 1]), float(rows[-1, 2]))
 
     def seconds(self, s) -> float:
         """Time of the moves added since the last call."""
-        if not self.ends:
+        if self.rows:
+            self.blocks.append(np.array(self.rows, np.float64))
+            self.rows = []
+        if not self.blocks:
             return 0.0
-        ends = np.round(np.concatenate(self.ends), 3)
+        m = np.concatenate(self.blocks)
+        ends = np.round(m[:, :3], 3)
         starts = np.vstack([self.start, ends[:-1]])
-        e = np.round(np.concatenate(self.e).astype(np.float64), 5)
-        t = move_times(starts, ends, e, np.concatenate(self.feed),
-                       acceleration=s.acceleration, jerk=s.jerk)
+        t = move_times(starts, ends, np.round(m[:, 3], 5), m[:, 4], acceleration=s.acceleration, jerk=s.jerk)
         self.start = ends[-1]
-        self.ends, self.e, self.feed = [], [], []
+        self.blocks = []
         return float(t.sum())
 
 
@@ -123,8 +128,9 @@ def gcode_lines(plan, totals: dict | None = None, *, workers: int = 1):
         yield head + text.replace("\x00FAN\x00", _fan_command(fan))
     moves = _Moves(starts[-1][1])
     top = max(z, min(z + 10.0, s.max_height))
-    moves.add(moves.pos, -s.retraction_length, round(60 * s.retraction_speed) / 60)
-    moves.add([*(moves.pos[:2]), top], 0.0, 10.0)
+    x, y, _ = moves.last
+    moves.point(x, y, moves.last[2], -s.retraction_length, round(60 * s.retraction_speed) / 60)
+    moves.point(x, y, top, 0.0, 10.0)
     seconds += moves.seconds(s)
     if totals is not None:
         totals.update(seconds=seconds, filament=filament, layer_seconds=layer_seconds)
@@ -245,7 +251,9 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
     filament it uses; extrusion speeds times `factor` (not below `min_print_speed`). With
     ``text=False`` only the moves are added (for timing): the extrusions are not formatted.
 
-    The layer's fan command is left as a marker where bridges change it back.
+    The layer's fan command is left as a marker where bridges change it back. The paths'
+    points, segment lengths and extrusions are computed for the whole layer at once; the loop
+    over paths only writes their headers and travels.
     """
     k_e = s.extrusion_multiplier / s.filament_area
     speeds = {"external": s.external_perimeter_speed, "internal": s.perimeter_speed,
@@ -254,14 +262,54 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
               "support": s.support_speed, "support_interface": s.support_speed,
               "overhang": s.bridge_speed,
               "skirt": s.first_layer_speed, "brim": s.first_layer_speed}
-    feed = {name: round(60 * v) / 60 for name, v in (("travel", s.travel_speed), ("retract", s.retraction_speed))}
+    travel_feed, retract_feed = round(60 * s.travel_speed) / 60, round(60 * s.retraction_speed) / 60
+    retract, lift, min_travel = s.retraction_length, s.z_lift, s.retract_min_travel
+    first_speed, small_speed, min_speed = s.first_layer_speed, s.small_perimeter_speed, s.min_print_speed
+    travel_f, retract_f = f"{60 * s.travel_speed:.0f}", f"{60 * s.retraction_speed:.0f}"
     z = lp.z + 0.0
-    out = [f"G1 Z{z:.3f} F{60 * s.travel_speed:.0f}\n"]
-    moves.add([*(moves.pos[:2]), z], 0.0, feed["travel"])
+    out = [f"G1 Z{z:.3f} F{travel_f}\n"]
+    x, y, _ = moves.last
+    moves.point(x, y, z, 0.0, travel_feed)
+    pieces = list(lp.pieces())
+    if not pieces:
+        return "".join(out), pos, 0.0
+    kinds = [q[0] for q in pieces]
+    counts = np.array([len(q[1]) for q in pieces])
+    ends = np.cumsum(counts)
+    begins = ends - counts
+    xy = np.concatenate([q[1] for q in pieces]) + off[:2]
+    n = len(xy)
+    width = np.concatenate([np.full(m, q[2]) if np.isscalar(q[2]) else np.asarray(q[2], np.float64)
+                            for m, q in zip(counts, pieces)])
+    # Segment j joins points j and j + 1; those that join two paths are never used.
+    d = np.diff(xy, axis=0)
+    seg = np.hypot(d[:, 0], d[:, 1])
+    wm = 0.5 * (width[:-1] + width[1:])
+    flow = np.repeat([k_e * s.bridge_flow_ratio if kind == "bridge" else k_e for kind in kinds], counts)[:-1]
+    e = wm * h * seg * flow
+    e_written = np.round(e, 5)
+    closed = np.all(xy[begins] == xy[ends - 1], axis=1)
+    # The travel to each path's first point, from the last path's end (or the nozzle).
+    before = np.vstack([[np.nan, np.nan] if pos is None else pos, xy[ends[:-1] - 1]])
+    gap = xy[begins] - before
+    travel = np.hypot(gap[:, 0], gap[:, 1])
+    if pos is None:
+        travel[0] = math.inf
+    rows = np.empty((n, 5))  # the moves to each point: x, y, z, filament, feed
+    rows[:, :2] = xy
+    rows[:, 2] = z
+    rows[1:, 3] = e
+    values = None
+    if text:
+        shown = np.empty((n, 3))
+        shown[:, :2] = xy
+        shown[1:, 2] = e
+        values = shown.ravel().tolist()
+    starts, stops = begins.tolist(), ends.tolist()
     filament = 0.0
     current_type = None
-    for kind, path, width in lp.pieces():  # over paths, cut where they hang over nothing
-        xy = path + off[:2]
+    for i, kind in enumerate(kinds):  # over paths
+        a, b = starts[i], stops[i]
         if kind != current_type:
             if current_type == "bridge":
                 out.append("\x00FAN\x00")  # the layer's own fan again after a bridge
@@ -269,44 +317,41 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
             if kind == "bridge":
                 out.append("M106 S255\n")  # bridge threads set in the air: full cooling
             current_type = kind
-        if pos is None or np.hypot(*(xy[0] - pos)) > 1e-9:
-            travel = math.inf if pos is None else float(np.hypot(*(xy[0] - pos)))
-            x0, y0 = xy[0]
-            if travel > s.retract_min_travel and s.retraction_length > 0:
-                out.append(f"G1 E{-s.retraction_length:.5f} F{60 * s.retraction_speed:.0f}\n")
-                moves.add(moves.pos, -s.retraction_length, feed["retract"])
-                if s.z_lift > 0:
-                    out.append(f"G1 Z{z + s.z_lift:.3f} F{60 * s.travel_speed:.0f}\n")
-                    moves.add([*(moves.pos[:2]), z + s.z_lift], 0.0, feed["travel"])
-                out.append(f"G0 X{x0:.3f} Y{y0:.3f} F{60 * s.travel_speed:.0f}\n")
-                moves.add([x0, y0, z + s.z_lift], 0.0, feed["travel"])
-                if s.z_lift > 0:
+        if travel[i] > 1e-9:
+            x0, y0 = float(xy[a, 0]), float(xy[a, 1])
+            if travel[i] > min_travel and retract > 0:
+                x, y, zz = moves.last
+                out.append(f"G1 E{-retract:.5f} F{retract_f}\n")
+                moves.point(x, y, zz, -retract, retract_feed)
+                if lift > 0:
+                    out.append(f"G1 Z{z + lift:.3f} F{travel_f}\n")
+                    moves.point(x, y, z + lift, 0.0, travel_feed)
+                out.append(f"G0 X{x0:.3f} Y{y0:.3f} F{travel_f}\n")
+                moves.point(x0, y0, z + lift, 0.0, travel_feed)
+                if lift > 0:
                     out.append(f"G1 Z{z:.3f}\n")
-                    moves.add([x0, y0, z], 0.0, feed["travel"])
-                out.append(f"G1 E{s.retraction_length:.5f} F{60 * s.retraction_speed:.0f}\n")
-                moves.add([x0, y0, z], s.retraction_length, feed["retract"])
+                    moves.point(x0, y0, z, 0.0, travel_feed)
+                out.append(f"G1 E{retract:.5f} F{retract_f}\n")
+                moves.point(x0, y0, z, retract, retract_feed)
             else:
-                out.append(f"G0 X{x0:.3f} Y{y0:.3f} F{60 * s.travel_speed:.0f}\n")
-                moves.add([x0, y0, z], 0.0, feed["travel"])
-        seg = np.hypot(*np.diff(xy, axis=0).T)
-        w = np.full(len(xy), width) if np.isscalar(width) else np.asarray(width)
-        wm = 0.5 * (w[:-1] + w[1:])
-        speed = s.first_layer_speed if k == 0 else speeds[kind]
-        if kind in ("external", "hole", "internal") and len(xy) > 3 and np.array_equal(path[0], path[-1]) \
-                and seg.sum() < SMALL_PERIMETER:
-            speed = min(speed, s.small_perimeter_speed)
+                out.append(f"G0 X{x0:.3f} Y{y0:.3f} F{travel_f}\n")
+                moves.point(x0, y0, z, 0.0, travel_feed)
+        speed = first_speed if k == 0 else speeds[kind]
+        if kind in ("external", "hole", "internal") and b - a > 3 and closed[i] \
+                and seg[a:b - 1].sum() < SMALL_PERIMETER:
+            speed = min(speed, small_speed)
         if factor < 1:
-            speed = max(min(speed, s.min_print_speed), speed * factor)
-        e = wm * h * seg * (k_e * s.bridge_flow_ratio if kind == "bridge" else k_e)
-        out.append(f";WIDTH:{float(np.mean(wm)):.3f}\nG1 F{60 * speed:.0f}\n")
+            speed = max(min(speed, min_speed), speed * factor)
+        out.append(f";WIDTH:{float(np.mean(wm[a:b - 1])):.3f}\nG1 F{60 * speed:.0f}\n")
         if text:
-            out.append(_fmt(xy[1:], e) + "\n")
-        moves.add(np.column_stack([xy[1:], np.full(len(xy) - 1, z)]), e, round(60 * speed) / 60)
-        filament += float(np.round(e, 5).sum())
-        pos = xy[-1]
+            out.append(_G1 * (b - a - 1) % tuple(values[3 * a + 3:3 * b]) if b - a > 1 else "\n")
+        block = rows[a + 1:b]
+        block[:, 4] = round(60 * speed) / 60
+        moves.block(block)
+        filament += float(e_written[a:b - 1].sum())
     if current_type == "bridge":
         out.append("\x00FAN\x00")
-    return "".join(out), pos, filament
+    return "".join(out), xy[-1], filament
 
 
 def write_gcode(plan, path, *, workers: int | None = None) -> dict:
