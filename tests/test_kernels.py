@@ -222,3 +222,38 @@ def test_march_cells_asks_for_more_room_rather_than_losing_segments():
     assert not few[3] and len(few[0]) == 0
     # The contours through the public entry point are the same whatever room it starts with.
     assert sum(len(r) for r in contours.march_blocks(image, float(np.median(v)), g)) <= len(start)
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_winding_blocks_is_the_brute_force_winding_number_on_every_held_pixel(seed):
+    # Overlapping star-shaped loops, some clockwise, against the winding number summed from each
+    # loop's turning angle around every pixel centre (no crossing rule involved).
+    from slicelab.toolpath.raster import _edges, winding_blocks
+    rng = np.random.default_rng(seed)
+    loops = []
+    for k in range(4):
+        t = np.sort(rng.uniform(0, 2 * np.pi, 40))
+        r = rng.uniform(2, 6, 40)
+        ring = np.stack([r * np.cos(t), r * np.sin(t)], 1) + rng.uniform(-3, 3, 2)
+        loops.append(ring if k % 3 else ring[::-1])
+    b, p = 8, 0.25
+    table = np.full((6, 7), EMPTY)
+    held = rng.random(table.shape) < 0.6
+    table[held] = np.arange(held.sum())
+    g = BlockGrid(b, -3, -4, table)
+    numbers = winding_blocks(_edges(loops), g, p)
+    rows, cols = g.origins()
+    rr, cc = np.meshgrid(np.arange(b), np.arange(b), indexing="ij")
+    centres = np.stack([(cols[:, None, None] + cc) * p, (rows[:, None, None] + rr) * p], -1).reshape(-1, 2)
+    turn = np.zeros(len(centres))
+    for ring in loops:
+        a = ring[None] - centres[:, None]
+        ang = np.arctan2(a[..., 1], a[..., 0])
+        turn += np.angle(np.exp(1j * (np.roll(ang, -1, axis=1) - ang))).sum(axis=1)
+    expected = np.rint(turn / (2 * np.pi)).astype(int).reshape(numbers.shape)
+    assert np.abs(expected).max() >= 2 and (expected < 0).any()  # overlaps of both orientations
+    assert np.array_equal(numbers, expected)
+    for rule, bits in (("nonzero", expected != 0), ("evenodd", expected % 2 == 1)):
+        got, some = winding_blocks(_edges(loops), g, p, rule=rule)
+        assert np.array_equal(got, bits)
+        assert np.array_equal(some, bits.any(axis=(1, 2)))

@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["march_cells", "closed_cycles", "fill_blocks", "sample_blocks", "combine_blocks", "row_prefix",
+__all__ = ["march_cells", "closed_cycles", "fill_blocks", "sample_blocks", "combine_blocks", "winding_rows",
            "warm"]
 
 # Block table values of uniform blocks (`slicelab.geometry.blocks`: EMPTY, FULL).
@@ -420,15 +420,62 @@ def combine_blocks(op, bb, ta, ra, ca, bits_a, tb, rb, cb, bits_b, r0, c0, nr, n
 
 
 @njit(cache=True, nogil=True)
-def row_prefix(steps, base):
-    """Running sums along the rows of (n, B, B) `steps`, in place, each row starting from `base[k, r]`."""
-    n, b, w = steps.shape
+def winding_rows(key, total, row_start, r_first, c_first, stride, rows0, cols0, mode, out):
+    """Winding numbers (or the fill rule's bits) of blocks' pixels, from crossings sorted by pixel.
+
+    A crossing at world pixel (R, C) changes the winding of pixels C and right
+    of it in row R; it is keyed ``(R - r_first) stride + C - c_first``, the
+    keys sorted and `total` the running sum of their steps (one more, from 0).
+    Each block row starts from the crossings left of the block (a few in a
+    row) and takes its own as its pixels pass them: one pass that writes each
+    run of pixels between two crossings at once.
+
+    Parameters
+    ----------
+    key : (m,) int64 ndarray, sorted
+    total : (m + 1,) int64 ndarray
+    row_start : int64 ndarray
+        Where each row's keys start (row ``R - r_first``).
+    r_first, c_first, stride : int
+    rows0, cols0 : (n,) int64 ndarray
+        World pixel of each block's first pixel.
+    mode : int
+        -1: the winding numbers; 0: nonzero (1 where the winding is not 0);
+        1: even-odd (1 where it is odd).
+    out : (n, B, B) int32 or uint8 ndarray
+        Filled.
+
+    Returns
+    -------
+    some : (n,) bool ndarray
+        Blocks with a pixel not 0.
+    """
+    n, b = out.shape[0], out.shape[1]
+    m = len(key)
+    some = np.zeros(n, np.bool_)
     for k in range(n):
         for r in range(b):
-            acc = base[k, r]
-            for c in range(w):
-                acc += steps[k, r, c]
-                steps[k, r, c] = acc
+            row = rows0[k] + r - r_first
+            first = row_start[row]
+            target = row * stride + cols0[k] - c_first  # the key of the block row's first pixel
+            j = first
+            while j < m and key[j] < target:  # past the crossings left of the block: a few
+                j += 1
+            c = 0
+            while c < b:  # over the runs of pixels between crossings: a few per row
+                stop = b
+                if j < m and key[j] - target < b:
+                    stop = key[j] - target
+                acc = total[j] - total[first]
+                v = acc if mode < 0 else ((acc != 0) if mode == 0 else (acc & 1))
+                if v != 0 and stop > c:
+                    some[k] = True
+                for x in range(c, stop):
+                    out[k, r, x] = v
+                c = stop
+                while j < m and key[j] - target == c:  # the crossings at this pixel
+                    j += 1
+    return some
 
 
 def warm() -> None:
@@ -462,4 +509,6 @@ def warm() -> None:
     douglas_peucker(np.zeros((2, 2)), np.ones(2, bool), 0.1)
     cut_at_crossings(np.zeros((1, 2, 2)), np.zeros((1, 2, 2)))
     winding_at(np.zeros((1, 2)), np.zeros((1, 2, 2)))
-    row_prefix(np.zeros((1, 1, 1), np.int32), np.zeros((1, 1), np.int32))
+    for dtype in (np.int32, np.uint8):
+        winding_rows(i64, np.zeros(2, np.int64), np.zeros(2, np.int64), 0, 0, 1, i64, i64, 0,
+                     np.zeros((1, 1, 1), dtype))

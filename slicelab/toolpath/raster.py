@@ -165,16 +165,28 @@ def winding_numbers(edges: np.ndarray, row0: int, col0: int, shape, pixel_size: 
     return np.cumsum(acc, axis=1, dtype=np.int32)[:, :w]
 
 
-def winding_blocks(edges: np.ndarray, blocks: BlockGrid, pixel_size: float) -> np.ndarray:
+def winding_blocks(edges: np.ndarray, blocks: BlockGrid, pixel_size: float, *, rule: str | None = None):
     """Winding number of every pixel of the active blocks of a `BlockGrid`.
 
     The same numbers as `winding_numbers`, block by block: a block's row
     starts from the crossings left of the block (a binary search in the
-    crossings sorted by row and column), then adds its own.
+    crossings sorted by row and column), then adds its own as it passes them
+    (`slicelab.geometry.kernels.winding_rows`, one compiled pass).
+
+    Parameters
+    ----------
+    edges : (m, 2, 2) ndarray
+    blocks : BlockGrid
+    pixel_size : float
+    rule : {"nonzero", "evenodd"}, optional
+        Given, the material under the rule instead of the numbers.
 
     Returns
     -------
     (n, B, B) int32 ndarray
+        Without a rule.
+    bits, some : (n, B, B) bool and (n,) bool ndarray
+        With a rule: the material, and which blocks hold some.
 
     Examples
     --------
@@ -183,11 +195,15 @@ def winding_blocks(edges: np.ndarray, blocks: BlockGrid, pixel_size: float) -> n
     >>> e = _edges([sq, sq + 1])
     >>> np.array_equal(np.concatenate(list(winding_blocks(e, g, 1.0)), 1), winding_numbers(e, 0, 0, (2, 4), 1.0))
     True
+    >>> bits, some = winding_blocks(e, g, 1.0, rule="evenodd")
+    >>> bits[1].astype(int).tolist(), some.tolist()
+    ([[0, 0], [1, 0]], [True, True])
     """
+    from ..geometry.kernels import winding_rows
     b, n = blocks.size, len(blocks)
-    out = np.zeros((n, b, b), np.int32)
+    out = np.zeros((n, b, b), np.int32 if rule is None else np.uint8)
     if n == 0 or len(edges) == 0:
-        return out
+        return out if rule is None else (out.view(bool), np.zeros(n, bool))
     nr, nc = blocks.table.shape
     r_first, c_first = blocks.row0 * b, blocks.col0 * b - 1
     rows, x, step = _crossings(edges, r_first, (blocks.row0 + nr) * b, pixel_size)
@@ -197,15 +213,12 @@ def winding_blocks(edges: np.ndarray, blocks: BlockGrid, pixel_size: float) -> n
     order = np.argsort(key, kind="stable")
     key = key[order]
     total = np.concatenate([[0], np.cumsum(step[order], dtype=np.int64)])
+    row_start = np.searchsorted(key, np.arange(nr * b + 1) * stride)
     br, bc = blocks.origins()
-    line = (br[:, None] + np.arange(b) - r_first) * stride  # (n, B): each block row's first key
-    base = total[np.searchsorted(key, line + (bc - c_first)[:, None])] - total[np.searchsorted(key, line)]
-    k, lr, lc = blocks.locate(rows, cols)
-    on = k >= 0
-    np.add.at(out.reshape(-1), (k[on] * b + lr[on]) * b + lc[on], step[on])
-    from ..geometry.kernels import row_prefix
-    row_prefix(out, base.astype(np.int32))  # one compiled pass: numpy's cumsum is slow on short rows
-    return out
+    mode = -1 if rule is None else (0 if rule == "nonzero" else 1)
+    some = winding_rows(key, total, row_start, r_first, c_first, stride, br.astype(np.int64), bc.astype(np.int64),
+                        mode, out)
+    return out if rule is None else (out.view(bool), some)
 
 
 def _apply_rule(winding: np.ndarray, rule: str) -> np.ndarray:
@@ -253,10 +266,9 @@ def raster_blocks(edges: np.ndarray, row0: int, col0: int, shape, pixel_size: fl
     # The first pixel of block (i, j) is the pixel (i, j) of a grid of size * p pixels.
     corner = winding_numbers(edges, rows[0], cols[0], active.shape, size * p)
     grid = BlockGrid.from_status(size, rows[0], cols[0], active, _apply_rule(corner, rule) & ~active)
-    bits = _apply_rule(winding_blocks(edges, grid, p), rule)
+    bits, some = winding_blocks(edges, grid, p, rule=rule)
     # A block near the boundary but wholly outside the material is an empty block: nothing is
     # lost by holding it as one (it is the band outside the material, about half of it).
-    some = bits.any(axis=(1, 2))
     if not some.all():
         active[grid.rows[~some] - rows[0], grid.cols[~some] - cols[0]] = False
         grid = BlockGrid.from_status(size, rows[0], cols[0], active, grid.table == FULL)
