@@ -24,6 +24,8 @@ from __future__ import annotations
 
 import numpy as np
 from numba import njit
+# LLVM's count-trailing-zeros: the next crossed cell of a row of bits in one instruction.
+from numba.cpython.unsafe.numbers import trailing_zeros
 
 __all__ = ["march_cells", "closed_cycles", "fill_blocks", "sample_blocks", "combine_blocks", "winding_rows",
            "warm"]
@@ -90,65 +92,81 @@ def march_cells(flat, level, b, m, nb, rows0, cols0, r_origin, c_origin, width, 
     end = np.empty(cap, np.int64)
     points = np.empty((cap, 2), np.float64)
     s = 0
-    # Which pixels of two consecutive rows are at or above the level: each pixel is compared
-    # once, and a cell is skipped when its four corners agree (most cells: it is uncrossed).
-    above = np.empty((2, q), np.uint8)
+    # Which pixels of a row are at or above the level, as the bits of words of 64 columns: each
+    # pixel is compared once, and a few word operations find the crossed cells of two rows
+    # (a cell is crossed when its four corners disagree; most are not).
+    words = (b + 63) // 63  # cells j0 .. j0 + 62 of a row read columns j0 .. j0 + 63
+    one = np.uint64(1)
+    prev = np.zeros(words, np.uint64)
     for k in range(n):
         y0 = (k // m) * q
         x0 = (k % m) * q
-        for j in range(q):
-            above[0, j] = flat[y0, x0 + j] >= level
+        for w in range(words):
+            prev[w] = _row_bits(flat, y0, x0 + 63 * w, min(q - 63 * w, 64), level)
         for i in range(b + 1):
-            up, lo = i & 1, (i + 1) & 1
-            total = 0
-            for j in range(q):
-                a = flat[y0 + i + 1, x0 + j] >= level
-                above[lo, j] = a
-                total += a + above[up, j]
-            if total == 0 or total == 2 * q:  # the two rows on one side: no cell crossed
-                continue
-            for j in range(b + 1):
-                corners = above[up, j] + above[up, j + 1] + above[lo, j] + above[lo, j + 1]
-                if corners == 0 or corners == 4:
-                    continue
-                r, c = i - 1, j - 1
-                if (r < 0 or c < 0) and not _owned(r, c, b, nb, k, n):
-                    continue
-                cu, cr, cl, cw = above[up, j] == 1, above[up, j + 1] == 1, above[lo, j] == 1, above[lo, j + 1] == 1
-                vu = np.float64(flat[y0 + i, x0 + j])
-                vr = np.float64(flat[y0 + i, x0 + j + 1])
-                vl = np.float64(flat[y0 + i + 1, x0 + j])
-                vw = np.float64(flat[y0 + i + 1, x0 + j + 1])
-                if s + 2 > cap:  # out of room: the caller asks again with more
-                    return start[:0], end[:0], points[:0], False
-                R, C = rows0[k] + r, cols0[k] + c
-                base = 2 * ((R - r_origin) * width + (C - c_origin))
-                saddle = cu == cw and cr == cl
-                # Straight-line code, no tuples indexed at run time (several times slower in numba).
-                for h in range(2 if saddle else 1):
-                    if saddle:  # low upper left: left -> top, right -> bottom; else top -> right, bottom -> left
-                        if not cu:
-                            e, f = (3, 0) if h == 0 else (1, 2)
+            for w in range(words):
+                j0 = 63 * w
+                up = prev[w]
+                lo = _row_bits(flat, y0 + i + 1, x0 + j0, min(q - j0, 64), level)
+                prev[w] = lo
+                v = up ^ lo
+                crossed = (up ^ (up >> one)) | (lo ^ (lo >> one)) | v | (v >> one)
+                crossed &= (one << np.uint64(min(b + 1 - j0, 63))) - one
+                while crossed:
+                    t = trailing_zeros(crossed)
+                    crossed &= crossed - one
+                    j = j0 + np.int64(t)
+                    r, c = i - 1, j - 1
+                    if (r < 0 or c < 0) and not _owned(r, c, b, nb, k, n):
+                        continue
+                    cu = (up >> t) & one == one
+                    cr = (up >> (t + one)) & one == one
+                    cl = (lo >> t) & one == one
+                    cw = (lo >> (t + one)) & one == one
+                    vu = np.float64(flat[y0 + i, x0 + j])
+                    vr = np.float64(flat[y0 + i, x0 + j + 1])
+                    vl = np.float64(flat[y0 + i + 1, x0 + j])
+                    vw = np.float64(flat[y0 + i + 1, x0 + j + 1])
+                    if s + 2 > cap:  # out of room: the caller asks again with more
+                        return start[:0], end[:0], points[:0], False
+                    R, C = rows0[k] + r, cols0[k] + c
+                    base = 2 * ((R - r_origin) * width + (C - c_origin))
+                    saddle = cu == cw and cr == cl
+                    # Straight-line code, no tuples indexed at run time (several times slower in numba).
+                    for h in range(2 if saddle else 1):
+                        if saddle:  # low upper left: left -> top, right -> bottom; else top -> right, bottom -> left
+                            if not cu:
+                                e, f = (3, 0) if h == 0 else (1, 2)
+                            else:
+                                e, f = (0, 1) if h == 0 else (2, 3)
                         else:
-                            e, f = (0, 1) if h == 0 else (2, 3)
-                    else:
-                        # Walk the border counter-clockwise (top, right, bottom, left edges): the
-                        # segment starts where the walk leaves the high side and ends where it comes back.
-                        e = _first(cu and not cr, cr and not cw, cw and not cl)
-                        f = _first(cr and not cu, cw and not cr, cl and not cw)
-                    start[s] = _edge_key(base, e, width)
-                    end[s] = _edge_key(base, f, width)
-                    # Along the start edge, from its first pixel to its second.
-                    if e == 0:
-                        points[s, 0], points[s, 1] = R, C + (level - vu) / (vr - vu)
-                    elif e == 1:
-                        points[s, 0], points[s, 1] = R + (level - vr) / (vw - vr), C + 1.0
-                    elif e == 2:
-                        points[s, 0], points[s, 1] = R + 1.0, C + (level - vl) / (vw - vl)
-                    else:
-                        points[s, 0], points[s, 1] = R + (level - vu) / (vl - vu), C
-                    s += 1
+                            # Walk the border counter-clockwise (top, right, bottom, left edges): the
+                            # segment starts where the walk leaves the high side and ends where it comes back.
+                            e = _first(cu and not cr, cr and not cw, cw and not cl)
+                            f = _first(cr and not cu, cw and not cr, cl and not cw)
+                        start[s] = _edge_key(base, e, width)
+                        end[s] = _edge_key(base, f, width)
+                        # Along the start edge, from its first pixel to its second.
+                        if e == 0:
+                            points[s, 0], points[s, 1] = R, C + (level - vu) / (vr - vu)
+                        elif e == 1:
+                            points[s, 0], points[s, 1] = R + (level - vr) / (vw - vr), C + 1.0
+                        elif e == 2:
+                            points[s, 0], points[s, 1] = R + 1.0, C + (level - vl) / (vw - vl)
+                        else:
+                            points[s, 0], points[s, 1] = R + (level - vu) / (vl - vu), C
+                        s += 1
     return start[:s], end[:s], points[:s], True
+
+
+@njit(cache=True, nogil=True)
+def _row_bits(flat, y, x, count, level):
+    """Bit t set where pixel (y, x + t) of `flat` is at or above the level, t < count <= 64."""
+    bits = np.uint64(0)
+    for t in range(count):
+        if flat[y, x + t] >= level:
+            bits |= np.uint64(1) << np.uint64(t)
+    return bits
 
 
 @njit(cache=True, nogil=True)

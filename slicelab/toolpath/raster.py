@@ -201,7 +201,7 @@ def winding_blocks(edges: np.ndarray, blocks: BlockGrid, pixel_size: float, *, r
     """
     from ..geometry.kernels import winding_rows
     b, n = blocks.size, len(blocks)
-    out = np.zeros((n, b, b), np.int32 if rule is None else np.uint8)
+    out = np.empty((n, b, b), np.int32 if rule is None else np.uint8)  # the kernel writes every pixel
     if n == 0 or len(edges) == 0:
         return out if rule is None else (out.view(bool), np.zeros(n, bool))
     nr, nc = blocks.table.shape
