@@ -338,7 +338,9 @@ def open_mask(mask, radius: int):
         # Slivers only (a sloped wall's edge) are known from the erosion of the active blocks
         # alone: with no full block, nothing outside them survives it.
         core = mask.blocks.mosaic(mask.bits.view(np.uint8), radius, np.uint8(0), np.uint8(1))
-        if not cv2.countNonZero(cv2.erode(core, kernel)):
+        # Only the blocks' own pixels are eroded right: a halo pixel's disc reaches past the
+        # halo into the next block of the mosaic.
+        if not mask.blocks.cores(cv2.erode(core, kernel), radius).any():
             return None
     halo = 2 * radius
     grid, bits = mask.blocks.widen(mask.bits, False, True, -(-halo // b))
