@@ -208,14 +208,16 @@ class SegmentIndex:
         return pa, pd, inv_len2, owner, half, tree
 
     def _buckets(self, reach: float):
-        """Square buckets of side `cell` (at least `reach`), each with the segments whose box,
+        """Square buckets of side `cell` (three times `reach`), each with the segments whose box,
         widened by a cell, meets it: (cell, origin, width, height, sorted keys, owners), made
         once for the reaches that share them (between a third of the side and the side), or
         None if candidates would be too many (short segments): the k-d tree does better."""
         cached = self._bucket_cache
         if cached is not None and reach <= cached[0] <= 3 * reach:
             return cached
-        cell = float(reach)
+        # Three times the reach: the deeper levels' queries (the next perimeters, the filling's
+        # edge) share them.
+        cell = 3.0 * float(reach)
         listed = _bucketed(self.lo, self.hi, cell, limit=64 * len(self.segments) + 4096)
         if listed is None:
             return None
