@@ -221,27 +221,43 @@ def distance_field(tile: BlockMask, index: SegmentIndex | None, levels, *, depth
     return DistanceField(values, tile, deep, int(exact))
 
 
-def _snap_corners(ring: np.ndarray, level: float, index: SegmentIndex, p: float,
-                  min_turn: float = 10.0) -> np.ndarray:
-    """Restore sharp corners of an offset ring that linear interpolation cut off."""
-    n = len(ring)
-    e = np.roll(ring, -1, axis=0) - ring
+def _snap_corners(rings: list, level: float, index: SegmentIndex, p: float, min_turn: float = 10.0) -> list:
+    """Restore sharp corners of offset rings that linear interpolation cut off (all rings at once)."""
+    if not rings:
+        return rings
+    sizes = np.array([len(r) for r in rings])
+    ends = np.cumsum(sizes)
+    begins = ends - sizes
+    pts = np.concatenate(rings)
+    ring_of = np.repeat(np.arange(len(rings)), sizes)
+    nxt = np.arange(1, len(pts) + 1)
+    nxt[ends - 1] = begins  # each ring closes on its first vertex
+    e = pts[nxt] - pts
     length = np.hypot(e[:, 0], e[:, 1])
     long = np.flatnonzero(length >= 2 * p)
     if len(long) < 2:
-        return ring
+        return rings
     # Corners come only between long edges turning by more than `min_turn` with a few vertices
     # between them: most rings (smooth curves, fine polygons) have none, and need no distances.
-    j2 = np.roll(np.arange(len(long)), -1)
+    owner = ring_of[long]
+    j2 = np.arange(1, len(long) + 1)  # the next long edge of the same ring, cyclically
+    last = np.flatnonzero(np.r_[owner[1:] != owner[:-1], True])
+    j2[last] = np.searchsorted(owner, owner[last])
+    n = sizes[owner]
     run = (long[j2] - long) % n  # vertices long + 1 .. long[j2] lie between two long edges
     d1 = e[long] / length[long][:, None]
     d2 = d1[j2]
     turn = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
     sharp = (turn > np.sin(np.radians(min_turn))) & (run >= 1) & (run <= 10)
     if not sharp.any():
-        return ring
-    mid = ring[long] + 0.5 * e[long]
-    dist, seg, _ = index.nearest(mid, reach=level + 2 * p)
+        return rings
+    mid = pts[long] + 0.5 * e[long]
+    # Only the long edges on either side of a sharp turn are measured.
+    need = sharp.copy()
+    need[j2[sharp]] = True
+    dist = np.full(len(long), np.inf)
+    seg = np.zeros(len(long), np.int64)
+    dist[need], seg[need], _ = index.nearest(mid[need], reach=level + 2 * p)
     s = index.segments[seg]
     u = s[:, 1] - s[:, 0]
     u /= np.hypot(u[:, 0], u[:, 1])[:, None]
@@ -253,34 +269,33 @@ def _snap_corners(ring: np.ndarray, level: float, index: SegmentIndex, p: float,
     exact = np.abs(dist - level) <= 0.25 * p
     origin = s[:, 0] + (side * level)[:, None] * nl  # a point of the exact offset line
 
-    e1, e2 = long, long[j2]
     ua, ub = u, u[j2]
     den = ua[:, 0] * ub[:, 1] - ua[:, 1] * ub[:, 0]
     cand = exact & exact[j2] & sharp & (np.abs(den) > 1e-9)
     if not cand.any():
-        return ring
+        return rings
     c = np.flatnonzero(cand)
     w = origin[j2][c] - origin[c]
     sa = (w[:, 0] * ub[c, 1] - w[:, 1] * ub[c, 0]) / den[c]
     x = origin[c] + sa[:, None] * ua[c]
-    first = (e1[c] + 1) % n
-    last = e2[c] % n
+    first = nxt[long[c]]
+    stop = long[j2][c]
     # The cut-off tip of a corner of interior angle a reaches about p / sin(a / 2) from it.
     half = 0.5 * (np.pi - np.arccos(np.clip(np.einsum("ij,ij->i", d1[c], d2[c]), -1, 1)))
     reach = np.minimum(2 * p / np.maximum(np.sin(half), 1e-3), 12 * p)
-    near = (np.hypot(*(x - ring[first]).T) <= reach) & (np.hypot(*(x - ring[last]).T) <= reach)
+    near = (np.hypot(*(x - pts[first]).T) <= reach) & (np.hypot(*(x - pts[stop]).T) <= reach)
     dx, _, _ = index.nearest(x, reach=level + 2 * p)
     good = near & (np.abs(dx - level) <= 1e-3 * p)
     if not good.any():
-        return ring
+        return rings
     c, x, first = c[good], x[good], first[good]
-    out = ring.copy()
+    out = pts.copy()
     out[first] = x
-    keep = np.ones(n, bool)
-    cnt = run[c] - 1
-    drop = expand_ranges(first + 1, cnt)[1] % n
-    keep[drop] = False
-    return out[keep]
+    keep = np.ones(len(pts), bool)
+    start = begins[owner[c]]
+    at, k = expand_ranges(first - start + 1, run[c] - 1)
+    keep[start[at] + k % n[c][at]] = False
+    return [out[a:b][keep[a:b]] for a, b in zip(begins, ends)]
 
 
 def level_rings(field: DistanceField, level: float, *, tolerance: float, index: SegmentIndex | None = None,
@@ -332,9 +347,8 @@ def level_rings(field: DistanceField, level: float, *, tolerance: float, index: 
     # Every ring of the level simplified in one compiled pass (in pixels).
     for c in simplify_rings([c for c in march_blocks(stack, level, g) if len(c) >= 3], tolerance / p):
         xy = np.stack([c[:, 1] * p, c[:, 0] * p], 1)
-        if len(xy) < 3 or abs(signed_area(xy)) < min_area:
-            continue
-        if index is not None and len(index):
-            xy = _snap_corners(xy, level, index, p)
-        rings.append(xy)
+        if len(xy) >= 3 and abs(signed_area(xy)) >= min_area:
+            rings.append(xy)
+    if index is not None and len(index):
+        rings = _snap_corners(rings, level, index, p)
     return rings
