@@ -170,7 +170,7 @@ PARTS = (("pot", ROOT / "data" / "pot.stl", None, False),
          ("block 96 mm", ROOT / "data" / "large" / "block_100.stl", None, False),
          ("teapot 120 mm", ROOT.parent / "shared" / "meshes" / "scans" / "utah_teapot.stl", 120.0, False),
          ("torus 1M", ROOT / "data" / "large" / "torus_1m.stl", None, False),
-         ("bridge 60 mm", ROOT / "data" / "bridge.stl", None, False),
+         ("bridge 40 mm", ROOT / "data" / "bridge.stl", None, False),
          ("mushroom supp.", ROOT / "data" / "mushroom.stl", None, True))
 
 
