@@ -161,3 +161,17 @@ def test_pixels_held_grow_with_the_boundary_not_the_area():
         assert r.area == pytest.approx(np.pi * (radius ** 2 - (radius - 4) ** 2), rel=2e-3)
     assert window[1] / window[0] > 14
     assert held[1] / held[0] < 4.5
+
+
+def test_a_strip_thinner_than_the_disc_across_a_block_seam_opens_to_nothing_from_the_erosion_alone(monkeypatch):
+    # Four pixels wide across the seam of two blocks: in the mosaic, each block's halo holds the
+    # other's pixels beside its own copy, eight in a row, which survive an erosion of radius 2.
+    # Only the blocks' own pixels may decide, without the second, wider pass of the opening.
+    from slicelab.geometry.blocks import BlockGrid
+    from slicelab.toolpath.masks import open_mask
+    strip = np.array([[2.95, 0.0], [3.35, 0.0], [3.35, 4.0], [2.95, 4.0]])  # pixel columns 30-33
+    m = rasterize(section_of([strip]), 0.1).tiles[0]
+    assert m.blocks.n_full == 0 and len(np.unique(m.blocks.origins()[1])) == 2
+    assert open_mask(m.to_grid(), 2) is None  # the whole mask's opening: nothing
+    monkeypatch.setattr(BlockGrid, "widen", lambda *a, **k: pytest.fail("the opening ran its second pass"))
+    assert open_mask(m, 2) is None
