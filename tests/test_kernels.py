@@ -228,7 +228,7 @@ def test_march_cells_asks_for_more_room_rather_than_losing_segments():
 def test_winding_blocks_is_the_brute_force_winding_number_on_every_held_pixel(seed):
     # Overlapping star-shaped loops, some clockwise, against the winding number summed from each
     # loop's turning angle around every pixel centre (no crossing rule involved).
-    from slicelab.toolpath.raster import _edges, winding_blocks
+    from slicelab.toolpath.raster import winding_blocks
     rng = np.random.default_rng(seed)
     loops = []
     for k in range(4):
@@ -241,7 +241,8 @@ def test_winding_blocks_is_the_brute_force_winding_number_on_every_held_pixel(se
     held = rng.random(table.shape) < 0.6
     table[held] = np.arange(held.sum())
     g = BlockGrid(b, -3, -4, table)
-    numbers = winding_blocks(_edges(loops), g, p)
+    edges = np.concatenate([np.stack([q, np.roll(q, -1, axis=0)], 1) for q in loops])  # oriented
+    numbers = winding_blocks(edges, g, p)
     rows, cols = g.origins()
     rr, cc = np.meshgrid(np.arange(b), np.arange(b), indexing="ij")
     centres = np.stack([(cols[:, None, None] + cc) * p, (rows[:, None, None] + rr) * p], -1).reshape(-1, 2)
@@ -254,6 +255,6 @@ def test_winding_blocks_is_the_brute_force_winding_number_on_every_held_pixel(se
     assert np.abs(expected).max() >= 2 and (expected < 0).any()  # overlaps of both orientations
     assert np.array_equal(numbers, expected)
     for rule, bits in (("nonzero", expected != 0), ("evenodd", expected % 2 == 1)):
-        got, some = winding_blocks(_edges(loops), g, p, rule=rule)
+        got, some = winding_blocks(edges, g, p, rule=rule)
         assert np.array_equal(got, bits)
         assert np.array_equal(some, bits.any(axis=(1, 2)))
