@@ -208,8 +208,15 @@ def split_by_mask(polygons: list[Polygon], mask, min_area: float = 0.0) -> tuple
     import shapely
     if not polygons:
         return [], []
-    region = shapely.union_all([shapely.Polygon(q.exterior, q.holes) for q in polygons])
-    cut = shapely.union_all([shapely.Polygon(q.exterior, q.holes) for q in level_polygons(_mask_rings(mask))])
+
+    def merged(polys):
+        # The polygons of one level are disjoint: together they are one valid shape, unless
+        # simplification made two of them touch (then shapely merges them).
+        shape = shapely.MultiPolygon([shapely.Polygon(q.exterior, q.holes) for q in polys])
+        return shape if shapely.is_valid(shape) else shapely.union_all(shapely.get_parts(shape))
+
+    region = merged(polygons)
+    cut = merged(level_polygons(_mask_rings(mask)))
 
     def keep(geometry):
         return [r for r in _rings_of(geometry) if abs(signed_area(r)) >= min_area]
