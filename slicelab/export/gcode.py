@@ -128,8 +128,8 @@ def gcode_lines(plan, totals: dict | None = None, *, workers: int = 1):
         yield head + text.replace("\x00FAN\x00", _fan_command(fan))
     moves = _Moves(starts[-1][1])
     top = max(z, min(z + 10.0, s.max_height))
-    x, y, _ = moves.last
-    moves.point(x, y, moves.last[2], -s.retraction_length, round(60 * s.retraction_speed) / 60)
+    x, y, z_end = moves.last
+    moves.point(x, y, z_end, -s.retraction_length, round(60 * s.retraction_speed) / 60)
     moves.point(x, y, top, 0.0, 10.0)
     seconds += moves.seconds(s)
     if totals is not None:
@@ -203,7 +203,7 @@ def _layer_block(k: int, lp, h: float, s, off, pos, at) -> tuple[str, float, flo
     so that it has time to cool before the next one is laid on it.
     """
     moves = _Moves(at)
-    text, _, used = _layer_gcode(k, lp, h, s, off, moves, pos, 1.0)
+    text, used = _layer_gcode(k, lp, h, s, off, moves, pos, 1.0)
     t = moves.seconds(s)
     factor = 1.0
     for _ in range(4):  # travel and acceleration do not slow in step: a few rounds, moves only
@@ -211,11 +211,11 @@ def _layer_block(k: int, lp, h: float, s, off, pos, at) -> tuple[str, float, flo
             break
         factor *= t / s.min_layer_time
         moves = _Moves(at)
-        _, _, used = _layer_gcode(k, lp, h, s, off, moves, pos, factor, text=False)
+        _, used = _layer_gcode(k, lp, h, s, off, moves, pos, factor, text=False)
         t = moves.seconds(s)
     if factor < 1:  # the text once, at the speed found
         moves = _Moves(at)
-        text, _, used = _layer_gcode(k, lp, h, s, off, moves, pos, factor)
+        text, used = _layer_gcode(k, lp, h, s, off, moves, pos, factor)
         t = moves.seconds(s)
     return text, t, used
 
@@ -247,8 +247,8 @@ def layer_fan(k: int, seconds: float, s) -> int:
 
 
 def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: float, text: bool = True):
-    """One layer's moves as G-code text (without its header), the nozzle's end position and the
-    filament it uses; extrusion speeds times `factor` (not below `min_print_speed`). With
+    """One layer's moves as G-code text (without its header) and the filament it uses, from the
+    nozzle at `pos` (xy, None before any extrusion); extrusion speeds times `factor` (not below `min_print_speed`). With
     ``text=False`` only the moves are added (for timing): the extrusions are not formatted.
 
     The layer's fan command is left as a marker where bridges change it back. The paths'
@@ -272,7 +272,7 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
     moves.point(x, y, z, 0.0, travel_feed)
     pieces = list(lp.pieces())
     if not pieces:
-        return "".join(out), pos, 0.0
+        return "".join(out), 0.0
     kinds = [q[0] for q in pieces]
     counts = np.array([len(q[1]) for q in pieces])
     ends = np.cumsum(counts)
@@ -351,7 +351,7 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
         filament += float(e_written[a:b - 1].sum())
     if current_type == "bridge":
         out.append("\x00FAN\x00")
-    return "".join(out), xy[-1], filament
+    return "".join(out), filament
 
 
 def write_gcode(plan, path, *, workers: int | None = None) -> dict:
