@@ -243,7 +243,8 @@ def _areas(lp, raster, solid, s: PrintSettings) -> tuple[float, float, float, fl
 
     Counted on the distance fields' blocks: blocks deep inside count whole.
     """
-    from .perimeters import _solid_share
+    from ..geometry.blocks import FULL
+    from .masks import bits_in_blocks
     per = lp.perimeters
     p = s.pixel_size
     edge = sum(float(np.hypot(*(np.roll(r, -1, axis=0) - r).T).sum())
@@ -251,13 +252,14 @@ def _areas(lp, raster, solid, s: PrintSettings) -> tuple[float, float, float, fl
     total = inner = sol = 0.0
     for f in per.fields:  # over tiles
         g = f.grid.blocks
+        whole = g.n_full * g.size ** 2
         region = f.grid.bits & (f.blocks >= s.n_perimeters * s.line_width)
-        total += np.count_nonzero(f.grid.bits) + g.n_full * g.size ** 2
-        if solid is not None:  # the region's pixels (full blocks whole) and its solid share
-            held_in, held = _solid_share(f, region, solid)
-            inner, sol = inner + held_in, sol + held
-        else:
-            inner += np.count_nonzero(region) + g.n_full * g.size ** 2
+        total += np.count_nonzero(f.grid.bits) + whole
+        inner += np.count_nonzero(region) + whole
+        if solid is not None:
+            sol += np.count_nonzero(region & bits_in_blocks(solid, g.rows, g.cols, g.size))
+            fr, fc = np.nonzero(g.table == FULL)
+            sol += np.count_nonzero(bits_in_blocks(solid, fr + g.row0, fc + g.col0, g.size))
     return total * p * p, inner * p * p, sol * p * p, edge
 
 
