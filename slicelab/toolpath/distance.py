@@ -298,6 +298,27 @@ def _snap_corners(rings: list, level: float, index: SegmentIndex, p: float, min_
     return [out[a:b][keep[a:b]] for a, b in zip(begins, ends)]
 
 
+def _onto_offset(rings: list, level: float, index: SegmentIndex, p: float, tolerance: float,
+                 cell: float) -> list:
+    """Contour rings moved onto the exact offset, its arcs and creases followed (all rings at once).
+
+    Marching squares interpolates the field linearly between pixel centres:
+    on an offset line the field is linear and the vertex exact, but round a
+    corner of the boundary (an arc of the offset) or at a crease (where two
+    boundary features are equally near) it is not. One compiled pass
+    (`slicelab.geometry.segment_kernels.onto_offset`) moves each vertex within
+    half a pixel of the level onto the offset, along the line from its
+    nearest boundary point, and adds points where a chord strays from the
+    offset by more than half the tolerance.
+    """
+    from ..geometry.segment_kernels import onto_offset
+    sizes = np.array([len(r) for r in rings])
+    bounds = np.r_[0, np.cumsum(sizes)]
+    origin, width, height, start, owner, pieces = index.piece_buckets(cell)
+    out, ob = onto_offset(np.concatenate(rings), bounds, float(level), float(tolerance), 0.5 * p, float(cell),
+                          int(origin[0]), int(origin[1]), width, height, start, owner, pieces)
+    return np.split(out, ob[1:-1])
+
 def level_rings(field: DistanceField, level: float, *, tolerance: float, index: SegmentIndex | None = None,
                 values: np.ndarray | None = None, min_area: float | None = None) -> list[np.ndarray]:
     """Closed rings (material on the left) where the field crosses `level`, simplified and snapped.
@@ -344,9 +365,11 @@ def level_rings(field: DistanceField, level: float, *, tolerance: float, index: 
         return []
     stack = field.halo1 if values is None else field.mosaic(1, values)
     rings = []
-    # Every ring of the level simplified in one compiled pass (in pixels).
-    for c in simplify_rings([c for c in march_blocks(stack, level, g) if len(c) >= 3], tolerance / p):
-        xy = np.stack([c[:, 1] * p, c[:, 0] * p], 1)
+    found = [np.stack([c[:, 1] * p, c[:, 0] * p], 1) for c in march_blocks(stack, level, g) if len(c) >= 3]
+    if values is None and index is not None and len(index) and found:
+        found = _onto_offset(found, level, index, p, tolerance, field.deep)
+    # Every ring of the level simplified in one compiled pass.
+    for xy in simplify_rings(found, tolerance):
         if len(xy) >= 3 and abs(signed_area(xy)) >= min_area:
             rings.append(xy)
     if index is not None and len(index):

@@ -304,7 +304,7 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
         How far (in line widths) the filling's extrusion overlaps the last
         perimeter: its centre lines stop at ``n_perimeters w + w/2 - overlap w``.
     tolerance : float, optional
-        Simplification tolerance (mm); default a tenth of a pixel.
+        Simplification tolerance (mm); default a tenth of a pixel, at most 0.01 mm.
     solid : GridMask or BlockMask, optional
         Where the filling must be solid; the fill region is split into
         `Perimeters.solid` (inside the mask) and `Perimeters.fill`
@@ -346,7 +346,7 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
         block = raster.tiles[0].blocks.size if raster.tiles else None
         raster = rasterize(SimpleNamespace(loops=raster.loops), p, rule=raster.rule, band=depth + 3 * p,
                            **({"block": block} if block else {}))
-    tol = 0.1 * p if tolerance is None else float(tolerance)
+    tol = min(0.1 * p, 0.01) if tolerance is None else float(tolerance)
     levels = (np.arange(n_perimeters) + 0.5) * w
     fill_level = n_perimeters * w + 0.5 * w - overlap * w
     min_gap = 0.5 * w if min_gap_width is None else float(min_gap_width)
@@ -367,11 +367,12 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
             rings_by_level[k] += found
             reached |= k == 0 and len(found) > 0
         # The filling's region: its level set where the opening keeps it, the opening's edge
-        # elsewhere (the field lowered below the level there), simplified to half a pixel. Its
-        # mask is taken half a pixel lower, as its pixels' centres lie inside the level set.
+        # elsewhere (the field lowered below the level there), simplified to half a pixel (at
+        # most 0.05 mm). Its mask is taken half a pixel lower, as its pixels' centres lie inside
+        # the level set.
         fill_mask = _opened(fld, fill_level - 0.5 * p, 0.5 * w)
         lowered = np.where(fill_mask, fld.blocks, np.minimum(fld.blocks, np.float32(fill_level - 0.6 * p)))
-        fill_rings += level_rings(fld, fill_level, tolerance=0.5 * p, values=lowered, index=index)
+        fill_rings += level_rings(fld, fill_level, tolerance=min(0.5 * p, 0.05), values=lowered, index=index)
         if solid is not None:
             total, held = _solid_share(fld, fill_mask, solid)
             fill_px, solid_px = fill_px + total, solid_px + held
