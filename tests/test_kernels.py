@@ -258,3 +258,38 @@ def test_winding_blocks_is_the_brute_force_winding_number_on_every_held_pixel(se
         got, some = winding_blocks(edges, g, p, rule=rule)
         assert np.array_equal(got, bits)
         assert np.array_equal(some, bits.any(axis=(1, 2)))
+
+
+def _loop_edges(loops):
+    edges = np.concatenate([np.stack([lp, np.roll(lp, -1, axis=0)], 1) for lp in loops]).astype(np.float64)
+    return edges, np.r_[0, np.cumsum([len(lp) for lp in loops])]
+
+
+def test_loops_touch_against_shapely():
+    # Whether a layer's loops meet anywhere (crossing, touching, overlapping in line) against
+    # GEOS: closed lines are simple together only if no two meet.
+    shapely = pytest.importorskip("shapely")
+    from slicelab.geometry.segment_kernels import loops_touch
+    sq = np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float)
+    cases = {
+        "apart": [sq, sq + 3],
+        "nested": [sq * 3, sq[::-1] + 1],
+        "crossing": [sq, sq + 1],
+        "corner on corner": [sq, sq + 2],
+        "shared edge": [sq, sq + (2, 0)],
+        "vertex on an edge": [sq, np.array([[2, 1], [4, 0], [4, 2]], float)],
+        "folded back": [np.array([[0, 0], [2, 0], [1, 0], [1, 1]], float)],
+    }
+    rng = np.random.default_rng(3)
+    for k in range(40):  # random star-shaped loops, some meeting
+        t = np.sort(rng.uniform(0, 2 * np.pi, 12))
+        loops = [np.c_[np.cos(t), np.sin(t)] * rng.uniform(0.5, 2, (12, 1)) + rng.uniform(-2, 2, 2)
+                 for _ in range(rng.integers(1, 4))]
+        cases[f"random {k}"] = loops
+    seen = set()
+    for name, loops in cases.items():
+        edges, bounds = _loop_edges(loops)
+        want = not shapely.MultiLineString([np.vstack([lp, lp[:1]]) for lp in loops]).is_simple
+        assert loops_touch(edges, bounds) == want, name
+        seen.add(want)
+    assert seen == {True, False}

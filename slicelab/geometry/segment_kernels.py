@@ -25,7 +25,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["nearest_in_buckets", "band_distances", "onto_offset", "cut_at_crossings", "winding_at", "douglas_peucker"]
+__all__ = ["nearest_in_buckets", "band_distances", "onto_offset", "loops_touch", "cut_at_crossings", "winding_at", "douglas_peucker"]
 
 
 @njit(cache=True, nogil=True)
@@ -354,6 +354,66 @@ def band_distances(inside, rows0, cols0, p, deep, cell, ox, oy, width, height, s
                 else:
                     out[k, r, c] = top
     return out, exact
+
+
+@njit(cache=True, nogil=True)
+def _orient(ax, ay, bx, by, cx, cy):
+    """Sign of the turn a -> b -> c: 1 left, -1 right, 0 in line."""
+    v = (bx - ax) * (cy - ay) - (by - ay) * (cx - ax)
+    return 1 if v > 0 else (-1 if v < 0 else 0)
+
+
+@njit(cache=True, nogil=True)
+def loops_touch(edges, bounds):
+    """Whether any two edges of closed loops meet, other than a loop's consecutive edges at their
+    shared vertex: crossings, touching vertices and edges overlapping in line all count.
+
+    A sweep along x over the edges sorted by their left ends; two edges are
+    compared only if their boxes meet, with exact orientation tests.
+
+    Parameters
+    ----------
+    edges : (m, 2, 2) float64 ndarray
+        The loops' edges, loop after loop, each loop's edges in order.
+    bounds : (r + 1,) int ndarray
+        Loop k is ``edges[bounds[k]:bounds[k + 1]]``.
+    """
+    m = len(edges)
+    nxt = np.empty(m, np.int64)  # the next edge of each edge's loop
+    for k in range(len(bounds) - 1):
+        for i in range(bounds[k], bounds[k + 1]):
+            nxt[i] = i + 1 if i + 1 < bounds[k + 1] else bounds[k]
+    xlo = np.minimum(edges[:, 0, 0], edges[:, 1, 0])
+    order = np.argsort(xlo)
+    for a in range(m):
+        i = order[a]
+        ax, ay, bx, by = edges[i, 0, 0], edges[i, 0, 1], edges[i, 1, 0], edges[i, 1, 1]
+        xhi = max(ax, bx)
+        ylo, yhi = min(ay, by), max(ay, by)
+        for c in range(a + 1, m):
+            j = order[c]
+            if xlo[j] > xhi:
+                break
+            cx, cy, dx, dy = edges[j, 0, 0], edges[j, 0, 1], edges[j, 1, 0], edges[j, 1, 1]
+            if max(cy, dy) < ylo or min(cy, dy) > yhi:
+                continue
+            o1, o2 = _orient(ax, ay, bx, by, cx, cy), _orient(ax, ay, bx, by, dx, dy)
+            o3, o4 = _orient(cx, cy, dx, dy, ax, ay), _orient(cx, cy, dx, dy, bx, by)
+            if nxt[i] == j or nxt[j] == i:
+                # Consecutive edges meet at their shared vertex: only folding back in line counts.
+                if o1 == 0 and o2 == 0:
+                    ux, uy = bx - ax, by - ay
+                    vx, vy = dx - cx, dy - cy
+                    if ux * vx + uy * vy < 0:
+                        return True
+                continue
+            if o1 * o2 <= 0 and o3 * o4 <= 0:
+                if o1 == 0 and o2 == 0:  # in line: they meet only if their extents overlap
+                    if max(min(ax, bx), min(cx, dx)) > min(max(ax, bx), max(cx, dx)) or \
+                            max(ylo, min(cy, dy)) > min(yhi, max(cy, dy)):
+                        continue
+                return True
+    return False
 
 
 @njit(cache=True, nogil=True)

@@ -346,6 +346,13 @@ def rasterize(section, pixel_size: float = 0.1, *, rule: str = "nonzero", margin
         edges = _edges([loops[k] for k in members])
         tile = raster_blocks(edges, int(r0), int(c0), shape, p, rule=rule, band=band, size=block)
         tiles.append(tile)
+        sizes = np.array([len(loops[k]) for k in members], np.int64)
+        from ..geometry.segment_kernels import loops_touch
+        if not loops_touch(np.ascontiguousarray(edges, np.float64), np.r_[0, np.cumsum(sizes)]):
+            # Loops that nowhere meet: each edge bounds material along its whole length, or
+            # nowhere (buried in another shell), so one look at its middle decides it.
+            seg_lists.append(edges[_bounding(edges, edges, tile, rule)])
+            continue
         # Pieces of at most 4 px, so an edge that is partly buried by another shell keeps its
         # exposed part (to within one piece).
         pieces, _ = split_segments(edges, 4 * p)
