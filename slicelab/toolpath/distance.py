@@ -4,12 +4,13 @@ Every material pixel held along the boundary gets the exact distance from
 its centre to the section's boundary segments (those that bound material
 under the fill rule), up to the depth the perimeters and their filling
 need, so the contours that marching squares interpolates between pixels lie
-on the true offsets. The distance is found among the segments' pieces in
-the pixel's bucket, in one compiled loop. Where the true offset has a sharp
-corner (a crease of the distance field, which linear interpolation cuts
-off), the two straight offset edges beside it are extended to meet, and the
-meeting point is checked to lie exactly at the level's distance from the
-boundary before it replaces the cut corner.
+near the true offsets. The distance is found among the segments' pieces in
+the pixel's bucket, in one compiled loop. The contours' vertices are then
+moved onto the exact offsets (along the line from their nearest boundary
+point), with the offsets' arcs round boundary vertices followed and their
+creases and sharp corners (which linear interpolation cuts off) put back
+where two features' offsets meet exactly at the level: the perimeters' accuracy
+does not depend on the pixel size.
 
 The field lives on the blocks of the layer's mask (`slicelab.toolpath.masks.BlockMask`):
 only the blocks near the boundary hold pixels, so its cost follows the
@@ -32,7 +33,6 @@ import numpy as np
 
 from ..geometry.contours import march_blocks
 from ..geometry.polygons import signed_area
-from ..geometry.ragged import expand_ranges
 from ..geometry.spatial import SegmentIndex
 from .masks import BlockMask
 from .simplify import simplify_rings
@@ -221,83 +221,6 @@ def distance_field(tile: BlockMask, index: SegmentIndex | None, levels, *, depth
     return DistanceField(values, tile, deep, int(exact))
 
 
-def _snap_corners(rings: list, level: float, index: SegmentIndex, p: float, min_turn: float = 10.0) -> list:
-    """Restore sharp corners of offset rings that linear interpolation cut off (all rings at once)."""
-    if not rings:
-        return rings
-    sizes = np.array([len(r) for r in rings])
-    ends = np.cumsum(sizes)
-    begins = ends - sizes
-    pts = np.concatenate(rings)
-    ring_of = np.repeat(np.arange(len(rings)), sizes)
-    nxt = np.arange(1, len(pts) + 1)
-    nxt[ends - 1] = begins  # each ring closes on its first vertex
-    e = pts[nxt] - pts
-    length = np.hypot(e[:, 0], e[:, 1])
-    long = np.flatnonzero(length >= 2 * p)
-    if len(long) < 2:
-        return rings
-    # Corners come only between long edges turning by more than `min_turn` with a few vertices
-    # between them: most rings (smooth curves, fine polygons) have none, and need no distances.
-    owner = ring_of[long]
-    j2 = np.arange(1, len(long) + 1)  # the next long edge of the same ring, cyclically
-    last = np.flatnonzero(np.r_[owner[1:] != owner[:-1], True])
-    j2[last] = np.searchsorted(owner, owner[last])
-    n = sizes[owner]
-    run = (long[j2] - long) % n  # vertices long + 1 .. long[j2] lie between two long edges
-    d1 = e[long] / length[long][:, None]
-    d2 = d1[j2]
-    turn = d1[:, 0] * d2[:, 1] - d1[:, 1] * d2[:, 0]
-    sharp = (turn > np.sin(np.radians(min_turn))) & (run >= 1) & (run <= 10)
-    if not sharp.any():
-        return rings
-    mid = pts[long] + 0.5 * e[long]
-    # Only the long edges on either side of a sharp turn are measured.
-    need = sharp.copy()
-    need[j2[sharp]] = True
-    dist = np.full(len(long), np.inf)
-    seg = np.zeros(len(long), np.int64)
-    dist[need], seg[need], _ = index.nearest(mid[need], reach=level + 2 * p)
-    s = index.segments[seg]
-    u = s[:, 1] - s[:, 0]
-    u /= np.hypot(u[:, 0], u[:, 1])[:, None]
-    nl = np.stack([-u[:, 1], u[:, 0]], 1)
-    side = np.sign(np.einsum("ij,ij->i", mid - s[:, 0], nl))
-    # Positive turns of an erosion are creases (its arcs turn the other way), so a long edge
-    # whose midpoint is about `level` from its nearest segment follows that segment's offset
-    # line; the corner found from two such lines is checked exactly below.
-    exact = np.abs(dist - level) <= 0.25 * p
-    origin = s[:, 0] + (side * level)[:, None] * nl  # a point of the exact offset line
-
-    ua, ub = u, u[j2]
-    den = ua[:, 0] * ub[:, 1] - ua[:, 1] * ub[:, 0]
-    cand = exact & exact[j2] & sharp & (np.abs(den) > 1e-9)
-    if not cand.any():
-        return rings
-    c = np.flatnonzero(cand)
-    w = origin[j2][c] - origin[c]
-    sa = (w[:, 0] * ub[c, 1] - w[:, 1] * ub[c, 0]) / den[c]
-    x = origin[c] + sa[:, None] * ua[c]
-    first = nxt[long[c]]
-    stop = long[j2][c]
-    # The cut-off tip of a corner of interior angle a reaches about p / sin(a / 2) from it.
-    half = 0.5 * (np.pi - np.arccos(np.clip(np.einsum("ij,ij->i", d1[c], d2[c]), -1, 1)))
-    reach = np.minimum(2 * p / np.maximum(np.sin(half), 1e-3), 12 * p)
-    near = (np.hypot(*(x - pts[first]).T) <= reach) & (np.hypot(*(x - pts[stop]).T) <= reach)
-    dx, _, _ = index.nearest(x, reach=level + 2 * p)
-    good = near & (np.abs(dx - level) <= 1e-3 * p)
-    if not good.any():
-        return rings
-    c, x, first = c[good], x[good], first[good]
-    out = pts.copy()
-    out[first] = x
-    keep = np.ones(len(pts), bool)
-    start = begins[owner[c]]
-    at, k = expand_ranges(first - start + 1, run[c] - 1)
-    keep[start[at] + k % n[c][at]] = False
-    return [out[a:b][keep[a:b]] for a, b in zip(begins, ends)]
-
-
 def _onto_offset(rings: list, level: float, index: SegmentIndex, p: float, tolerance: float,
                  cell: float) -> list:
     """Contour rings moved onto the exact offset, its arcs and creases followed (all rings at once).
@@ -306,22 +229,25 @@ def _onto_offset(rings: list, level: float, index: SegmentIndex, p: float, toler
     on an offset line the field is linear and the vertex exact, but round a
     corner of the boundary (an arc of the offset) or at a crease (where two
     boundary features are equally near) it is not. One compiled pass
-    (`slicelab.geometry.segment_kernels.onto_offset`) moves each vertex within
+    (`slicelab.geometry.offset_kernels.onto_offset`) moves each vertex within
     half a pixel of the level onto the offset, along the line from its
-    nearest boundary point, and adds points where a chord strays from the
-    offset by more than half the tolerance.
+    nearest boundary point, adds points where a chord strays from the offset
+    by more than half the tolerance, and puts back the sharp corners
+    interpolation cut off.
     """
-    from ..geometry.segment_kernels import onto_offset
+    from ..geometry.offset_kernels import onto_offset
     sizes = np.array([len(r) for r in rings])
     bounds = np.r_[0, np.cumsum(sizes)]
     origin, width, height, start, owner, pieces = index.piece_buckets(cell)
-    out, ob = onto_offset(np.concatenate(rings), bounds, float(level), float(tolerance), 0.5 * p, float(cell),
-                          int(origin[0]), int(origin[1]), width, height, start, owner, pieces)
+    # Vertices within half a pixel of the level are moved; a corner's tip may lie 6 pixels out.
+    out, ob = onto_offset(np.concatenate(rings), bounds, float(level), float(tolerance), 0.5 * p, 6 * p,
+                          float(cell), int(origin[0]), int(origin[1]), width, height, start, owner, pieces)
     return np.split(out, ob[1:-1])
+
 
 def level_rings(field: DistanceField, level: float, *, tolerance: float, index: SegmentIndex | None = None,
                 values: np.ndarray | None = None, min_area: float | None = None) -> list[np.ndarray]:
-    """Closed rings (material on the left) where the field crosses `level`, simplified and snapped.
+    """Closed rings (material on the left) where the field crosses `level`, on the exact offset, simplified.
 
     Parameters
     ----------
@@ -330,7 +256,8 @@ def level_rings(field: DistanceField, level: float, *, tolerance: float, index: 
     tolerance : float
         Simplification tolerance (mm), Douglas-Peucker (`slicelab.toolpath.simplify.simplify_rings`).
     index : SegmentIndex, optional
-        Boundary segments; given, sharp corners of the exact offset are restored.
+        Boundary segments; given (and `values` not), the rings are moved onto the
+        exact offset at `level`, its arcs, creases and sharp corners included.
     values : (n, B, B) ndarray, optional
         Another field on the same blocks to contour at `level` instead (e.g.
         the field lowered below the level where a mask excludes it); its
@@ -372,6 +299,4 @@ def level_rings(field: DistanceField, level: float, *, tolerance: float, index: 
     for xy in simplify_rings(found, tolerance):
         if len(xy) >= 3 and abs(signed_area(xy)) >= min_area:
             rings.append(xy)
-    if index is not None and len(index):
-        rings = _snap_corners(rings, level, index, p)
     return rings
