@@ -267,3 +267,15 @@ def test_offsets_follow_arcs_and_creases_between_pixels(pixel):
         chords = np.hypot(*(np.roll(ring, -1, axis=0) - ring).T)
         need = 2 * level * np.sin(np.arccos(1 - 0.01 / level) / 2)
         assert np.count_nonzero(chords < 0.5 * need) <= 4, (level, np.sort(chords)[:8])
+
+
+@pytest.mark.parametrize("pixel", [0.05, 0.1, 0.2])
+def test_a_raster_with_the_perimeters_band_is_used_as_it_is(pixel):
+    from slicelab.toolpath.perimeters import perimeter_band
+    s = section_of([rect(0, 0, 10, 6) + 0.013])
+    raster = slicelab.rasterize(s, pixel, band=perimeter_band(0.4, 2, 0.15, pixel))
+    per = perimeters(raster, 0.4, 2, overlap=0.15)
+    assert per.fields[0].grid is raster.tiles[0]
+    # A narrower band is made again, wide enough.
+    narrow = slicelab.rasterize(s, pixel, band=0.5)
+    assert perimeters(narrow, 0.4, 2, overlap=0.15).fields[0].grid is not narrow.tiles[0]

@@ -30,7 +30,7 @@ from ..geometry.polygons import Polygon, points_in_ring, signed_area
 from ..geometry.spatial import SegmentIndex
 from .infill import line_spacing, rectilinear
 from .patterns import fill_pattern
-from .perimeters import Perimeters, layer_perimeters, level_polygons, medial_fill, split_by_mask
+from .perimeters import Perimeters, layer_perimeters, level_polygons, medial_fill, perimeter_band, split_by_mask
 from .raster import GridMask, LayerRaster, draw_polylines, rasterize, winding_numbers
 from .roles import ISLAND_ROLES
 from .simplify import simplify_paths, simplify_rings
@@ -157,7 +157,7 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
     if not (0 <= infill_density <= 1):
         raise ValueError(f"infill density must be in [0, 1], got {infill_density!r}")
     if raster is None:
-        raster = rasterize(section, pixel_size, rule=rule)
+        raster = rasterize(section, pixel_size, rule=rule, band=perimeter_band(w, n_perimeters, overlap, pixel_size))
     if solid is not None and solid.pixel_size != raster.pixel_size:
         raise ValueError("the solid mask must be on the layer's pixel grid (same pixel size)")
     per = layer_perimeters(raster, w, n_perimeters, overlap=overlap, solid=solid, tolerance=tolerance)

@@ -37,7 +37,7 @@ from .masks import BlockMask, GridMask, bits_in_blocks
 from .raster import BAND, LayerRaster, rasterize
 
 __all__ = ["level_polygons", "Perimeters", "layer_perimeters", "medial_fill", "mask_rings", "perimeter_depth",
-           "split_by_mask"]
+           "perimeter_band", "split_by_mask"]
 
 
 def level_polygons(rings: list[np.ndarray]) -> list[Polygon]:
@@ -145,6 +145,21 @@ def perimeter_depth(line_width: float, n_perimeters: int, overlap: float = 0.15)
     """
     w = float(line_width)
     return n_perimeters * w + 0.5 * w - overlap * w + 0.5 * w
+
+
+def perimeter_band(line_width: float, n_perimeters: int, overlap: float, pixel_size: float) -> float:
+    """The band of pixels (mm) a layer's raster must hold along its boundary for its perimeters.
+
+    `perimeter_depth` and three pixels beyond it (the contours' cells and the
+    filters' halos), and at least `slicelab.toolpath.raster.BAND`: a raster
+    made with this band is used as it is, one with a narrower band is made again.
+
+    Examples
+    --------
+    >>> round(perimeter_band(0.4, 2, 0.15, 0.2), 6)
+    1.74
+    """
+    return max(BAND, perimeter_depth(line_width, n_perimeters, overlap) + 3 * float(pixel_size))
 
 
 def _mask_rings(mask) -> list[np.ndarray]:
@@ -339,7 +354,7 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
         raise ValueError(f"perimeter count must be >= 0, got {n_perimeters!r}")
     depth = perimeter_depth(w, n_perimeters, overlap)
     if not isinstance(layer, LayerRaster):
-        layer = rasterize(layer, pixel_size, rule=rule, band=max(BAND, depth + 3 * float(pixel_size)))
+        layer = rasterize(layer, pixel_size, rule=rule, band=perimeter_band(w, n_perimeters, overlap, pixel_size))
     raster = layer
     p = raster.pixel_size
     if raster.band < depth + 3 * p:  # too few pixels held along the boundary: hold more

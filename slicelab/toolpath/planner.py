@@ -183,12 +183,14 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     """
     from .overhangs import layer_overhangs, mark_overhangs
     from .paths import layer_paths
+    from .perimeters import perimeter_band
     from .skins import internal_bridge, layer_skins
     from .raster import rasterize
     from .simplify import simplify_paths
     from .skirt import skirt_loops, with_skirt
     sections = window
-    rasters = {j: rasterize(sec, s.pixel_size, rule=s.rule) for j, sec in window.items()}
+    band = perimeter_band(s.line_width, s.n_perimeters, s.infill_overlap, s.pixel_size)
+    rasters = {j: rasterize(sec, s.pixel_size, rule=s.rule, band=band) for j, sec in window.items()}
     masks = {j: (r.combined() if r.tiles else None) for j, r in rasters.items()}
     out = []
     pos = seam = None  # the nozzle, and the seam of the layer below (for aligned seams)
