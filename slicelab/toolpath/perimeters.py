@@ -299,7 +299,7 @@ def _islands_missed(field, level: float) -> int:
     return count - int(np.count_nonzero(reached[1:]))
 
 
-def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, pixel_size: float = 0.1,
+def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, pixel_size: float = 0.2,
                      rule: str = "nonzero", overlap: float = 0.15, tolerance: float | None = None,
                      solid: GridMask | BlockMask | None = None, min_gap_width: float | None = None) -> Perimeters:
     """Perimeters of a layer by erosion, with the regions left for filling.
@@ -311,7 +311,7 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
         Extrusion width w (mm).
     n_perimeters : int, default 2
         Number of perimeters, at offsets w/2, 3w/2, ...
-    pixel_size : float, default 0.1
+    pixel_size : float, default 0.2
         Used when `layer` is a Section.
     rule : {"nonzero", "evenodd"}
         Used when `layer` is a Section.

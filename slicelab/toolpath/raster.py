@@ -290,7 +290,7 @@ def _groups(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     return connected_components(coo_matrix((np.ones(len(i)), (i, j)), shape=(n, n)), directed=False)[1]
 
 
-def rasterize(section, pixel_size: float = 0.1, *, rule: str = "nonzero", margin: int = 3,
+def rasterize(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margin: int = 3,
               band: float = BAND, block: int = BLOCK) -> LayerRaster:
     """Rasterise a section's material on the world-anchored pixel grid.
 
@@ -298,7 +298,7 @@ def rasterize(section, pixel_size: float = 0.1, *, rule: str = "nonzero", margin
     ----------
     section : Section
         Its closed loops are used (open chains are left out).
-    pixel_size : float, default 0.1
+    pixel_size : float, default 0.2
         Pixel size p (mm); pixel centres sit at integer multiples of p.
     rule : {"nonzero", "evenodd"}
         Fill rule for overlapping or inside-out loops.
