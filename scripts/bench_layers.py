@@ -1,6 +1,6 @@
 """Per-layer cost and accuracy of the layer-raster toolpaths, and how the cost grows with a part's size.
 
-Layers: for a layer of the torus and of the pot, at pixel sizes 0.1, 0.05 and 0.02 mm, wall time of
+Layers: for a layer of the torus and of the pot, at pixel sizes 0.2, 0.1, 0.05 and 0.02 mm, wall time of
 `slicelab.layer_paths` (raster, exact distance field, perimeters, gap fill, zigzag filling, order),
 its peak memory, the pixels held (the blocks along the boundary) against the pixels of the islands'
 boxes, and beside them the accuracy of the perimeters against shapely's exact offsets
@@ -9,7 +9,7 @@ configuration runs in a fresh process, so peak memory (ru_maxrss minus the resid
 the call) is its own.
 
 Rings: a ring of constant 4 mm wall (`slicelab.samples.ring_prism`, cut at mid-height) with outer
-radius 10, 20, 40, 80 and 160 mm, at the default pixel (0.1 mm): the median time of `layer_paths` over
+radius 10, 20, 40, 80 and 160 mm, at the default pixel (0.2 mm): the median time of `layer_paths` over
 `--repeat` runs, the pixels held, and each size's ratio to the previous one. Work that follows the
 boundary doubles when the radius doubles; work over the islands' boxes would quadruple. The
 exponent fitted to time ~ radius^k says which.
@@ -32,7 +32,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 LAYERS = [("torus", ROOT / "data" / "torus.stl", 5.0), ("pot", ROOT / "data" / "pot.stl", 60.0),
           ("torus_1m", ROOT / "data" / "large" / "torus_1m.stl", 5.0)]
-PIXELS = [0.1, 0.05, 0.02]
+PIXELS = [0.2, 0.1, 0.05, 0.02]
 RADII = [10.0, 20.0, 40.0, 80.0, 160.0]
 WALL = 4.0
 
@@ -116,14 +116,14 @@ def ring_table(repeat: int) -> None:
 
 
 def pot_time(repeat: int) -> None:
-    """The pot's layer at mid-height with the defaults (0.1 mm pixels), and at 0.05 mm: median times."""
+    """The pot's layer at mid-height with the defaults (0.2 mm pixels), and at 0.1 and 0.05 mm: median times."""
     import slicelab
     path = ROOT / "data" / "pot.stl"
     if not path.exists():
         return
     s = slicelab.section(slicelab.load(path), (0, 0, 60.0), (0, 0, 1))
-    slicelab.layer_paths(s, pixel_size=0.1)  # warm imports
-    for p in (slicelab.PrintSettings().pixel_size, 0.05):
+    slicelab.layer_paths(s)  # warm imports
+    for p in (slicelab.PrintSettings().pixel_size, 0.1, 0.05):
         runs = []
         for _ in range(max(repeat, 3)):
             t0 = time.perf_counter()

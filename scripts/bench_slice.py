@@ -14,7 +14,7 @@ print time each announces are printed too.
 Same settings on both sides: 0.2 mm layers (first layer too), 0.4 mm lines everywhere, two
 perimeters, 20% rectilinear infill, 3 top and 3 bottom solid layers, no skirt, no minimum shell
 thickness (PrusaSlicer would otherwise add a fourth top layer). slicelab runs with its defaults
-otherwise (0.1 mm pixels, all cores) and a bed large enough for every part. Each tool runs as a
+otherwise (0.2 mm pixels, all cores) and a bed large enough for every part. Each tool runs as a
 command-line subprocess from a cold start (load, slice, write G-code), the two tools taking turns
 `--repeat` times (medians compared), after one untimed slicelab run that leaves its compiled kernels
 and bytecode on disk as a user's first run does; wall time, peak memory (the summed resident size of the
