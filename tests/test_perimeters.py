@@ -279,3 +279,23 @@ def test_a_raster_with_the_perimeters_band_is_used_as_it_is(pixel):
     # A narrower band is made again, wide enough.
     narrow = slicelab.rasterize(s, pixel, band=0.5)
     assert perimeters(narrow, 0.4, 2, overlap=0.15).fields[0].grid is not narrow.tiles[0]
+
+
+@pytest.mark.parametrize("pixel", [0.1, 0.2])
+@pytest.mark.parametrize("wall", [0.3, 1.1])
+def test_thin_walls_and_gaps_keep_their_gap_fill_at_coarse_pixels(pixel, wall):
+    # A 0.3 mm wall (thinner than a line) and the 0.3 mm left between the perimeters of a 1.1 mm
+    # wall are one or two pixels across at 0.2 mm: they must still get gap fill along their
+    # middle, wherever the pixel grid falls.
+    for shift in (0.0, 0.05, 0.1, 0.15):
+        loops = [rect(0, 0, 20, wall) + (0.012, 0.017 + shift)]
+        per = perimeters(section_of(loops), 0.4, 2, pixel_size=pixel)
+        length = sum(np.hypot(*np.diff(q, axis=0).T).sum() for q in per.gap_fill)
+        assert length > 18, (wall, shift, length)
+        mid = 0.017 + shift + wall / 2
+        for q, width in zip(per.gap_fill, per.gap_widths):
+            line = shapely.LineString(q)
+            pts = shapely.get_coordinates(line.interpolate(np.arange(0, line.length, 0.05)))
+            inner = (pts[:, 0] > 1) & (pts[:, 0] < 19)  # away from the ends, where the skeleton forks
+            assert np.abs(pts[inner, 1] - mid).max() <= 0.6 * pixel + 0.01
+            assert np.all((width >= 0.2 - 1e-9) & (width <= 0.6 + 1e-9))
