@@ -211,11 +211,14 @@ def medial_fill_blocks(grid: BlockGrid, uncovered: np.ndarray, pixel_size: float
         return sub.cores(img, halo, gap=1)
 
     threshold = _threshold(min_width, p)
-    seeds = own(cv2.distanceTransform(stacked(bits), cv2.DIST_L2, cv2.DIST_MASK_PRECISE)) >= threshold
-    if not seeds.any():
-        return [], []
-    labels, _ = sub.components(bits)
-    keep = np.isin(labels, np.unique(labels[seeds])) & bits
+    if threshold <= 1.0:  # every set pixel is a pixel from the background: every part is wide enough
+        keep = bits
+    else:
+        seeds = own(cv2.distanceTransform(stacked(bits), cv2.DIST_L2, cv2.DIST_MASK_PRECISE)) >= threshold
+        if not seeds.any():
+            return [], []
+        labels, _ = sub.components(bits)
+        keep = np.isin(labels, np.unique(labels[seeds])) & bits
     img = stacked(keep)
     d = cv2.distanceTransform(img, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
     skel = own(skeletonize(img.view(bool)) & (d >= threshold - 1))
