@@ -287,6 +287,10 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
     wm = 0.5 * (width[:-1] + width[1:])
     flow = np.repeat([k_e * s.bridge_flow_ratio if kind == "bridge" else k_e for kind in kinds], counts)[:-1]
     e = wm * h * seg * flow
+    # Each path's mean width (its own segments only: those joining two paths count nothing).
+    inner = wm.copy()
+    inner[ends[:-1] - 1] = 0.0
+    mean_width = (np.add.reduceat(inner, begins) / np.maximum(counts - 1, 1)).tolist() if n > 1 else [0.0]
     e_written = np.round(e, 5)
     closed = np.all(xy[begins] == xy[ends - 1], axis=1)
     # The travel to each path's first point, from the last path's end (or the nozzle).
@@ -342,7 +346,7 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
             speed = min(speed, small_speed)
         if factor < 1:
             speed = max(min(speed, min_speed), speed * factor)
-        out.append(f";WIDTH:{float(np.mean(wm[a:b - 1])):.3f}\nG1 F{60 * speed:.0f}\n")
+        out.append(f";WIDTH:{mean_width[i]:.3f}\nG1 F{60 * speed:.0f}\n")
         if text:
             out.append(_G1 * (b - a - 1) % tuple(values[3 * a + 3:3 * b]) if b - a > 1 else "\n")
         block = rows[a + 1:b]
