@@ -390,7 +390,7 @@ def test_too_big_a_part_is_refused():
         plan(box((0, 0, 0), (10, 10, 250)), PrintSettings())
     with pytest.raises(ValueError, match=r"^bed_size 250 x 210 mm: .* with its skirt 212.8 x 212.8 mm"):
         plan(box((0, 0, 0), (200, 200, 10)), PrintSettings())
-    plan_ok = plan(box((0, 0, 0), (200, 200, 0.4)), PrintSettings(skirt_loops=0, pixel_size=0.5), workers=1)
+    plan_ok = plan(box((0, 0, 0), (200, 200, 0.4)), PrintSettings(skirt_loops=0, pixel_size=0.4), workers=1)
     assert len(plan_ok.layers) == 2
     with pytest.raises(ValueError, match=r"^bed_center \(20, 20\): the part centred there"):
         check_bed(box((0, 0, 0), (50, 50, 10)), PrintSettings(bed_center=(20, 20)))

@@ -240,10 +240,16 @@ def test_work_grows_with_the_boundary():
 
 
 def test_default_pixel_is_one_whose_accuracy_is_tested():
-    import inspect
+    # Left out, the pixel is half the line width: 0.2 mm for the default 0.4 mm lines.
     assert slicelab.PrintSettings().pixel_size in TOLERANCE
-    assert inspect.signature(perimeters).parameters["pixel_size"].default in TOLERANCE
-    assert inspect.signature(slicelab.layer_paths).parameters["pixel_size"].default in TOLERANCE
+    s = section_of([rect(0, 0, 10, 6) + 0.013])
+    assert perimeters(s, 0.4, 2).fields[0].grid.pixel_size in TOLERANCE
+    assert slicelab.layer_paths(s, 0.4, 2, 0.2).perimeters.fields[0].grid.pixel_size in TOLERANCE
+    assert perimeters(s, 0.6, 2).fields[0].grid.pixel_size == pytest.approx(0.3)
+    assert slicelab.PrintSettings(line_width=0.6).pixel_size == pytest.approx(0.3)
+    assert slicelab.PrintSettings(line_width=0.6, pixel_size=0.1).pixel_size == 0.1
+    with pytest.raises(ValueError, match="pixel_size must be at most the line width"):
+        slicelab.PrintSettings(pixel_size=0.5)
 
 
 @pytest.mark.parametrize("pixel", [0.1, 0.2])

@@ -43,9 +43,10 @@ def disc(radius_px: float) -> np.ndarray:
 
 def _threshold(min_width: float, p: float) -> float:
     # A strip n px wide reaches n/2 (even n), (n+1)/2 (odd n) in the pixel distance transform.
-    # Fine pixels need three across (slivers one or two pixels wide are rounding); at 0.15 mm and
-    # coarser, a gap as wide as a line's half is one or two pixels, and must be kept.
-    return max(min_width / (2 * p) + 0.25, 1.0 if p >= 0.15 else 1.5)
+    # Fine pixels need three across (slivers one or two pixels wide are rounding); from pixels
+    # three quarters of the narrowest gap (0.15 mm for 0.4 mm lines), that gap is one or two
+    # pixels across, and must be kept.
+    return max(min_width / (2 * p) + 0.25, 1.0 if p >= 0.75 * min_width else 1.5)
 
 
 def _polylines(paths, width_of, p: float, w: float, min_width: float, row0: int = 0, col0: int = 0):

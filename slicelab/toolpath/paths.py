@@ -71,7 +71,7 @@ def _island_of(points: np.ndarray, exteriors: list, areas: np.ndarray) -> np.nda
 
 
 def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_density: float = 0.2,
-                angle: float = 45.0, pixel_size: float = 0.2, *, layer_index: int = 0,
+                angle: float = 45.0, pixel_size: float | None = None, *, layer_index: int = 0,
                 rule: str = "nonzero", overlap: float = 0.15, solid: GridMask | None = None,
                 solid_angle: float | None = None, top=None, bridges=(), start=None, raster: LayerRaster | None = None,
                 tolerance: float | None = None, pattern: str = "rectilinear",
@@ -90,8 +90,8 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
         Sparse filling density, a fraction in [0, 1]; lines are ``w / infill_density`` apart.
     angle : float, default 45
         Filling direction (degrees); odd layers (`layer_index`) turn rectilinear filling by 90.
-    pixel_size : float, default 0.2
-        Raster pixel size (mm).
+    pixel_size : float, optional
+        Raster pixel size (mm); default half the line width.
     layer_index : int, default 0
         Parity decides the filling angle (45 / 135 by default).
     rule : {"nonzero", "evenodd"}
@@ -157,6 +157,7 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
     if not (0 <= infill_density <= 1):
         raise ValueError(f"infill density must be in [0, 1], got {infill_density!r}")
     if raster is None:
+        pixel_size = 0.5 * w if pixel_size is None else float(pixel_size)
         raster = rasterize(section, pixel_size, rule=rule, band=perimeter_band(w, n_perimeters, overlap, pixel_size))
     if solid is not None and solid.pixel_size != raster.pixel_size:
         raise ValueError("the solid mask must be on the layer's pixel grid (same pixel size)")

@@ -299,7 +299,7 @@ def _islands_missed(field, level: float) -> int:
     return count - int(np.count_nonzero(reached[1:]))
 
 
-def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, pixel_size: float = 0.2,
+def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, pixel_size: float | None = None,
                      rule: str = "nonzero", overlap: float = 0.15, tolerance: float | None = None,
                      solid: GridMask | BlockMask | None = None, min_gap_width: float | None = None) -> Perimeters:
     """Perimeters of a layer by erosion, with the regions left for filling.
@@ -311,8 +311,8 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
         Extrusion width w (mm).
     n_perimeters : int, default 2
         Number of perimeters, at offsets w/2, 3w/2, ...
-    pixel_size : float, default 0.2
-        Used when `layer` is a Section.
+    pixel_size : float, optional
+        Used when `layer` is a Section; default half the line width.
     rule : {"nonzero", "evenodd"}
         Used when `layer` is a Section.
     overlap : float, default 0.15
@@ -354,6 +354,7 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
         raise ValueError(f"perimeter count must be >= 0, got {n_perimeters!r}")
     depth = perimeter_depth(w, n_perimeters, overlap)
     if not isinstance(layer, LayerRaster):
+        pixel_size = 0.5 * w if pixel_size is None else float(pixel_size)
         layer = rasterize(layer, pixel_size, rule=rule, band=perimeter_band(w, n_perimeters, overlap, pixel_size))
     raster = layer
     p = raster.pixel_size

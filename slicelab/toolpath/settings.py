@@ -172,10 +172,11 @@ class Raster:
 
     The perimeters are moved onto the exact offsets of the section whatever
     the pixel size; the pixels set how finely thin walls, gap fill and the
-    skins' masks are resolved. 0.2 mm is half the default line width.
+    skins' masks are resolved. Left out (None), the pixel is half the line
+    width (0.2 mm for 0.4 mm lines); it may not be coarser than the line width.
     """
 
-    pixel_size: float = 0.2
+    pixel_size: float | None = None
     rule: str = "nonzero"
 
 
@@ -257,7 +258,10 @@ class PrintSettings:
         group = _GROUP_OF.get(name)
         if group is None:
             raise AttributeError(f"PrintSettings has no setting {name!r}")
-        return getattr(object.__getattribute__(self, group), name)
+        value = getattr(object.__getattribute__(self, group), name)
+        if value is None and name == "pixel_size":  # left out: half the line width, whatever it is
+            return self.line_width / 2
+        return value
 
     def _set(self, name: str, value) -> None:
         """Normalise a field while validating (its group replaced, never changed in place)."""
@@ -290,6 +294,9 @@ class PrintSettings:
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and v >= 0 and math.isfinite(v)):
                 raise ValueError(f"{name} must be a number >= 0, got {v!r}")
+        if self.pixel_size > self.line_width:
+            raise ValueError(f"pixel_size must be at most the line width ({self.line_width:g} mm), "
+                             f"got {self.pixel_size!r}")
         if not (isinstance(self.gcode_resolution, (int, float)) and 0 <= self.gcode_resolution < self.line_width):
             raise ValueError(f"gcode_resolution must be >= 0 and under the line width ({self.line_width:g} mm), "
                              f"got {self.gcode_resolution!r}")
@@ -374,4 +381,4 @@ def settings_dict(s: PrintSettings) -> dict:
     >>> d["n_perimeters"], d["infill_density"]
     (2, 0.2)
     """
-    return {k: v for g in GROUPS for k, v in asdict(getattr(s, g)).items()}
+    return {k: getattr(s, k) for g in GROUPS for k in asdict(getattr(s, g))}  # defaults resolved
