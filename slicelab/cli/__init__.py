@@ -23,7 +23,7 @@ from ..tasks.spec import ParameterError
 from . import analysis, fabrication
 from .arguments import UsageError, flag_message, negative_values, positive
 
-__all__ = ["main", "build_parser", "COMMANDS"]
+__all__ = ["main", "run", "build_parser", "COMMANDS"]
 
 _TABLE = {**analysis.COMMANDS, **fabrication.COMMANDS}
 COMMANDS = ["inspect", "section", "layers", "split", "profile", "batch", "cut", "partition", "arrange", "slice"]
@@ -79,5 +79,18 @@ def main(argv=None) -> int:
         return 130
 
 
+def run() -> int:
+    """The console command: `main`, then the garbage collector's objects frozen before the exit.
+
+    The interpreter's last collections at exit walk every object the compiled kernels left
+    (hundreds of thousands); frozen, they are skipped, and the command ends about half a
+    second sooner. Only for a process about to end: `main` itself leaves the collector alone.
+    """
+    import gc
+    status = main()
+    gc.freeze()
+    return status
+
+
 if __name__ == "__main__":  # pragma: no cover
-    raise SystemExit(main())
+    raise SystemExit(run())

@@ -181,9 +181,8 @@ def _layer_blocks(plan, starts: list, workers: int):
         for run in runs:
             yield from _format_run(*job(run))
         return
-    import multiprocessing as mp
-    from concurrent.futures import ProcessPoolExecutor
-    with ProcessPoolExecutor(min(workers, len(runs)), mp_context=mp.get_context("fork")) as pool:
+    from ..toolpath.pool import forked_pool
+    with forked_pool(min(workers, len(runs))) as pool:
         # Submitted all at once; taken back in order, so the file is written while later runs format.
         futures = [pool.submit(_format_run, *job(run)) for run in runs]
         for fut in futures:

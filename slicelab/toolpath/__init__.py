@@ -21,6 +21,7 @@
 ``toolpath.settings``       `PrintSettings` in groups (extrusion, infill, skins, motion, ...)
 ``toolpath.printers``       printer profiles, TOML settings files, start and end G-code
 ``toolpath.planner``        `plan` a whole part -> `PrintPlan`
+``toolpath.pool``           the forked process pool that plans layers and formats G-code
 ==========================  =====================================================
 """
 from __future__ import annotations
@@ -45,7 +46,7 @@ _WHERE = {"PRINTERS": "printers", "FLAVORS": "printers", "resolve_settings": "pr
           "check_bed": "bed", "ISLAND_ROLES": "roles",
           "ROLES": "roles", "FILLING_KINDS": "roles", "KINDS": "roles", "ROLE_OF": "roles", "RoleStyle": "roles", "STYLES": "roles",
           "LayerPaths": "table", "SEAMS": "paths", "layer_paths": "paths", "coverage_map": "paths", "covered_pixels": "paths",
-          "PrintPlan": "planner", "plan": "planner", "layer_bounds": "planner",
+          "PrintPlan": "planner", "plan": "planner", "layer_bounds": "planner", "forked_pool": "pool",
           "PrintSettings": "settings", "settings_dict": "settings", "Bridge": "overhangs", "LayerOverhangs": "overhangs", "layer_overhangs": "overhangs", "mark_overhangs": "overhangs", "PERIMETER_KINDS": "overhangs", "setting_names": "settings",
           "Extrusion": "settings", "Infill": "settings", "Skins": "settings", "Motion": "settings",
           "Cooling": "settings", "Adhesion": "settings", "Walls": "settings", "Supports": "settings", "PIXEL": "supports", "layer_skins": "skins", "SUPPORTS": "supports", "support_masks": "supports", "support_paths": "supports", "Machine": "settings", "Raster": "settings",
@@ -60,7 +61,7 @@ __all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_con
            "GYROID_LENGTH", "simplify_mask", "simplify_path", "simplify_paths", "simplify_rings", "skirt_loops",
            "skirt_margin", "with_skirt", "move_times", "format_duration", "check_bed", "ISLAND_ROLES", "ROLES",
            "FILLING_KINDS", "KINDS", "ROLE_OF", "RoleStyle", "STYLES", "LayerPaths", "layer_paths", "coverage_map", "covered_pixels", "PrintSettings",
-           "PrintPlan", "plan", "layer_bounds", "settings_dict", "setting_names", "Extrusion", "Infill", "Skins",
+           "PrintPlan", "forked_pool", "plan", "layer_bounds", "settings_dict", "setting_names", "Extrusion", "Infill", "Skins",
            "Motion", "Cooling", "Adhesion", "Machine", "Raster", "Walls", "Supports", "PIXEL", "SUPPORTS",
            "support_masks", "support_paths", "layer_skins", "GROUPS", "SEAMS", "Bridge", "LayerOverhangs",
            "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS"]

@@ -339,26 +339,16 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
             bar.update(b - a)
         bar.close()
     else:
-        import multiprocessing as mp
-        from concurrent.futures import ProcessPoolExecutor, as_completed
+        from concurrent.futures import as_completed
+
+        from .pool import forked_pool
         bar = _bar(n, progress)
-        import cv2
-        # The pool's processes fill the cores: OpenCV's own threads in each of them would only
-        # fight over the same cores (thousands of context switches a second). Set in this
-        # process before the fork: calling it in a forked child can deadlock on the thread
-        # pool the child inherited.
-        cv_threads = cv2.getNumThreads()
-        cv2.setNumThreads(1)
-        try:
-            with ProcessPoolExecutor(workers, mp_context=mp.get_context("fork")) as pool:
-                futures = {pool.submit(_run_chunk, *job(a, b)): (a, b)
-                           for a, b in _costliest_first(chunks, sections, s)}
-                for fut in as_completed(futures):
-                    results += fut.result()
-                    a, b = futures[fut]
-                    bar.update(b - a)
-        finally:
-            cv2.setNumThreads(cv_threads)
+        with forked_pool(workers) as pool:
+            futures = {pool.submit(_run_chunk, *job(a, b)): (a, b) for a, b in _costliest_first(chunks, sections, s)}
+            for fut in as_completed(futures):
+                results += fut.result()
+                a, b = futures[fut]
+                bar.update(b - a)
         bar.close()
     results.sort(key=lambda r: r[0])
     layers = [r[1] for r in results]
