@@ -18,6 +18,7 @@ slicelab.export.gcode.write_gcode : the plan as printer G-code.
 """
 from __future__ import annotations
 
+import gc
 import math
 import os
 import sys
@@ -312,11 +313,19 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     mid = lo[2] + bounds.mean(axis=1)
     # The modules the layers need load on a thread while the part is sliced (numpy lets go of
     # the GIL): forked workers then inherit them instead of importing each.
+    # Loading them creates some 100,000 long-lived objects, and the garbage collector would walk
+    # them all a few times over (0.2 s): it pauses meanwhile.
     import threading
-    warm = threading.Thread(target=_warm_imports, daemon=True)
-    warm.start()
-    sections = slice_layers(mesh, heights=mid)
-    warm.join()
+    collecting = gc.isenabled()
+    gc.disable()
+    try:
+        warm = threading.Thread(target=_warm_imports, daemon=True)
+        warm.start()
+        sections = slice_layers(mesh, heights=mid)
+        warm.join()
+    finally:
+        if collecting:
+            gc.enable()
     check_bed(mesh, s, first_layer=sections[0])
     t1 = time.perf_counter()
     n = len(sections)
