@@ -209,19 +209,25 @@ class LayerPaths:
     @property
     def extrusion_length(self) -> float:
         """Total length of all extrusions (mm)."""
-        return float(sum(_length(p) for p in self.paths))
+        return self._sums()[0]
 
     def extruded_area(self) -> float:
         """Sum of length x width over the extrusions (mm^2): the material laid per unit height."""
-        total = 0.0
-        for p, w in zip(self.paths, self.widths):
-            seg = np.hypot(*np.diff(p, axis=0).T)
-            ww = np.full(len(p), w) if np.isscalar(w) else np.asarray(w)
-            total += float(np.sum(seg * 0.5 * (ww[:-1] + ww[1:])))
-        return total
+        return self._sums()[1]
 
-
-def _length(p: np.ndarray) -> float:
-    return float(np.hypot(*np.diff(p, axis=0).T).sum()) if len(p) > 1 else 0.0
+    def _sums(self) -> tuple[float, float]:
+        """Length and length x width of every extrusion, summed over the layer at once: the rows'
+        points in one array, the segments that join two rows left out."""
+        rows = [(q, w) for q, w in zip(self.paths, self.widths) if len(q)]
+        if not rows:
+            return 0.0, 0.0
+        counts = np.array([len(q) for q, _ in rows])
+        xy = np.concatenate([q for q, _ in rows])
+        width = np.concatenate([np.full(m, w) if np.ndim(w) == 0 else np.asarray(w, np.float64)
+                                for m, (_, w) in zip(counts, rows)])
+        d = np.diff(xy, axis=0)
+        seg = np.hypot(d[:, 0], d[:, 1])
+        seg[np.cumsum(counts)[:-1] - 1] = 0.0  # from the last point of a row to the next row's first
+        return float(seg.sum()), float(np.dot(seg, 0.5 * (width[:-1] + width[1:])))
 
 
