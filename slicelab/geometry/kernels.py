@@ -523,7 +523,10 @@ def warm() -> None:
                     i64, i64)
     nearest_in_buckets(np.zeros((1, 2)), i64, i64, i64, np.zeros((1, 2, 2)))
     combine_blocks(0, 1, table, 0, 0, np.zeros(1, np.uint8), table, 0, 0, np.zeros(1, np.uint8), 0, 0, 1, 1)
-    sample_blocks(table, 0, 0, 1, np.zeros((1, 1, 1), bool), False, True, i64, i64)
+    frozen = i64.copy()
+    frozen.flags.writeable = False  # points some callers pass as read-only views
+    for where in (i64, frozen):
+        sample_blocks(table, 0, 0, 1, np.zeros((1, 1, 1), bool), False, True, where, where)
     band_distances(np.ones((1, 1, 1), bool), i64, i64, 0.1, 1.0, 1.0, 0, 0, 1, 1, np.zeros(2, np.int64), i64,
                    np.zeros((1, 2, 2)))
     douglas_peucker(np.zeros((2, 2)), np.ones(2, bool), 0.1)
