@@ -171,16 +171,20 @@ class PrintPlan:
 
 
 # ------------------------------------------------------------------ workers
-_RUN = 20  # layers per task: each rasterises its skins' neighbours too, so not fewer
+_RUN = 20  # layers over which the nozzle is carried (seams), the paths' unit of work
+_GROUP = 5  # runs per call at most: a worker's call holds the rasters of its layers' neighbours
 
 
 def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, s: PrintSettings):
-    """Toolpaths of layers first..stop-1 of n.
+    """Toolpaths of layers first..stop-1 of n, `first` a multiple of `_RUN`.
 
     `window` maps a layer's index to its section for these layers and the
     `bottom_layers` below and `top_layers` above them (their skins need them);
-    `z_tops` are the tops of these layers. Everything comes as arguments: a
-    pool's worker needs no state from the parent.
+    `z_tops` are the tops of these layers. The nozzle is carried from one layer to the
+    next within each run of `_RUN` layers and starts afresh at each run, so the paths do not
+    depend on how runs are grouped into calls. Each layer is rasterised once, when the first
+    layer that reads it comes, and dropped when the last has. Everything comes as arguments:
+    a pool's worker needs no state from the parent.
     """
     from .overhangs import layer_overhangs, mark_overhangs
     from .paths import layer_paths
@@ -191,12 +195,24 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     from .skirt import skirt_loops, with_skirt
     sections = window
     band = perimeter_band(s.line_width, s.n_perimeters, s.infill_overlap, s.pixel_size)
-    rasters = {j: rasterize(sec, s.pixel_size, rule=s.rule, band=band) for j, sec in window.items()}
-    masks = {j: (r.combined() if r.tiles else None) for j, r in rasters.items()}
+    rasters, masks = {}, {}
+
+    def reach(k):
+        """Rasters and masks of the layers layer k's skins read, and of none below them."""
+        for j in [j for j in rasters if j < k - s.bottom_layers - 1]:  # over the few left behind
+            del rasters[j], masks[j]
+        for j in range(max(0, k - s.bottom_layers - 1), min(n, k + s.top_layers + 1)):  # the window
+            if j not in rasters:
+                rasters[j] = rasterize(sections[j], s.pixel_size, rule=s.rule, band=band)
+                masks[j] = rasters[j].combined() if rasters[j].tiles else None
+
     out = []
-    pos = seam = None  # the nozzle, and the seam of the layer below (for aligned seams)
+    reach(first)  # (the skins of layer first - 1 read no further)
     below_solid = layer_skins(first - 1, masks, s.skins, s.line_width)[0] if first > 0 else None
     for k in range(first, stop):  # over layers
+        if k % _RUN == 0:  # a run starts: the nozzle, and the seam of the layer below (aligned seams)
+            pos = seam = None
+        reach(k)
         solid, top = layer_skins(k, masks, s.skins, s.line_width)
         ov = None
         if k > 0 and masks[k] is not None:  # the first layer lies on the bed
@@ -339,8 +355,12 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
 
     results = []
     # Fixed runs of layers, whatever the number of workers: a run carries the nozzle from
-    # one layer to the next (seams), so the same runs give the same G-code in series.
-    chunks = [(a, min(n, a + _RUN)) for a in range(0, n, _RUN)]
+    # one layer to the next (seams), so the same runs give the same G-code in series. Runs go
+    # to the workers a few at a time (each rasterises its neighbours once), in enough calls
+    # for the workers to share them evenly.
+    runs = -(-n // _RUN)
+    group = max(1, min(_GROUP, runs // (3 * workers))) if workers > 1 else _GROUP
+    chunks = [(a, min(n, a + group * _RUN)) for a in range(0, n, group * _RUN)]
     if workers == 1 or len(chunks) == 1:
         bar = _bar(n, progress)
         for a, b in chunks:
