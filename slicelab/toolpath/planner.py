@@ -176,13 +176,13 @@ _GROUP = 5  # runs per call at most: a worker's call holds the rasters of its la
 
 
 def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, s: PrintSettings):
-    """Toolpaths of layers first..stop-1 of n, `first` a multiple of `_RUN`.
+    """Toolpaths of layers first..stop-1 of n.
 
     `window` maps a layer's index to its section for these layers and the
     `bottom_layers` below and `top_layers` above them (their skins need them);
     `z_tops` are the tops of these layers. The nozzle is carried from one layer to the
-    next within each run of `_RUN` layers and starts afresh at each run, so the paths do not
-    depend on how runs are grouped into calls. Each layer is rasterised once, when the first
+    next within each run of `_RUN` layers (and from `first`) and starts afresh at each run, so
+    the paths do not depend on how runs are grouped into calls. Each layer is rasterised once, when the first
     layer that reads it comes, and dropped when the last has. Everything comes as arguments:
     a pool's worker needs no state from the parent.
     """
@@ -210,7 +210,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     reach(first)  # (the skins of layer first - 1 read no further)
     below_solid = layer_skins(first - 1, masks, s.skins, s.line_width)[0] if first > 0 else None
     for k in range(first, stop):  # over layers
-        if k % _RUN == 0:  # a run starts: the nozzle, and the seam of the layer below (aligned seams)
+        if k == first or k % _RUN == 0:  # a run starts: the nozzle, and the seam below (aligned seams)
             pos = seam = None
         reach(k)
         solid, top = layer_skins(k, masks, s.skins, s.line_width)

@@ -277,17 +277,33 @@ def raster_blocks(edges: np.ndarray, row0: int, col0: int, shape, pixel_size: fl
 
 
 def _groups(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
-    """Connected groups of boxes that overlap (transitively)."""
+    """Connected groups of boxes that overlap (transitively), numbered in the order of their
+    first box.
+
+    Each box takes the smallest index among the boxes it overlaps, again until nothing changes
+    (as many rounds as the longest chain of overlaps, a few): for the handful of loops of a
+    layer this costs a few microseconds where building a sparse graph for SciPy cost a
+    millisecond.
+
+    Examples
+    --------
+    >>> lo = np.array([[0, 0], [50, 50], [8, 8], [16, 16]])   # 0 meets 2, 2 meets 3
+    >>> _groups(lo, lo + 10).tolist()
+    [0, 1, 0, 0]
+    """
     n = len(lo)
     if n <= 1:
         return np.zeros(n, np.int64)
     if n > 3000:  # pairwise test too big: one tile
         return np.zeros(n, np.int64)
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
     overlap = np.all((lo[:, None] <= hi[None]) & (lo[None] <= hi[:, None]), axis=2)
-    i, j = np.nonzero(overlap)
-    return connected_components(coo_matrix((np.ones(len(i)), (i, j)), shape=(n, n)), directed=False)[1]
+    label = np.arange(n)
+    while True:  # over rounds, few
+        lower = np.where(overlap, label[None, :], n).min(axis=1)
+        if np.array_equal(lower, label):
+            break
+        label = lower
+    return np.unique(label, return_inverse=True)[1].astype(np.int64)
 
 
 def rasterize(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margin: int = 3,
