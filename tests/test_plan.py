@@ -233,6 +233,17 @@ def test_runs_handed_out_in_groups_give_the_same_gcode(tmp_path):
     assert texts[0] == texts[1] == texts[2]
 
 
+def test_a_pool_leaves_the_garbage_collector_as_it_found_it():
+    """The pool freezes the collector's objects before it forks (so workers do not walk them) and
+    unfreezes them after: a notebook's session is not left with objects it can never collect."""
+    import gc
+    before, enabled = gc.get_freeze_count(), gc.isenabled()
+    from slicelab.samples import sphere
+    pp = plan(sphere(9.0, 16, 32), PrintSettings(**FAST), workers=2)  # 45 layers: three runs, a pool
+    assert len(pp.layers) == 45
+    assert gc.get_freeze_count() == before and gc.isenabled() == enabled
+
+
 def test_svg_and_png_previews(cube_plan, tmp_path):
     mesh, s, pp, text = cube_plan
     files = write_svgs(pp, tmp_path / "svg")
