@@ -229,7 +229,8 @@ def _rings(start, end, pr, pc) -> list[np.ndarray]:
         r, c = pr[idx], pc[idx]
         low = np.flatnonzero(r == r.min())
         first = low[np.argmin(c[low])]
-        rings.append(np.roll(np.stack([r, c], 1), -first, axis=0))
+        rc = np.stack([r, c], 1)
+        rings.append(np.concatenate((rc[first:], rc[:first])))
     return rings
 
 

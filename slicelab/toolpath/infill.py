@@ -114,7 +114,7 @@ def fill_lines(polygons: list[Polygon], spacing: float, angle: float = 45.0) -> 
                          spacing)
     sizes = np.array([len(r) for r in rings])
     a = np.concatenate(rings)
-    b = np.concatenate([np.roll(r, -1, axis=0) for r in rings])
+    b = np.concatenate([q for r in rings for q in (r[1:], r[:1])])  # each vertex's successor
     ring_of = np.repeat(np.arange(len(rings)), sizes)
     edge_of = within_group(sizes)
     # Line k meets an edge when ceil(ymin / s) <= k < ceil(ymax / s): a shared vertex gives both
@@ -202,7 +202,7 @@ def rectilinear(polygons: list[Polygon], spacing: float, angle: float = 45.0, *,
     other[f.start], other[f.end] = f.end, f.start
     # Neighbours of each crossing along its ring.
     arc = np.zeros(n_cross)
-    seg_len = [np.hypot(*(np.roll(r, -1, axis=0) - r).T) for r in f.rings]
+    seg_len = [np.hypot(*(np.concatenate((r[1:], r[:1])) - r).T) for r in f.rings]
     cum = [np.concatenate([[0.0], np.cumsum(s)]) for s in seg_len]
     perim = np.array([c[-1] for c in cum])
     for r in range(len(f.rings)):  # over rings
@@ -215,8 +215,8 @@ def rectilinear(polygons: list[Polygon], spacing: float, angle: float = 45.0, *,
     for r in range(len(f.rings)):  # over rings
         o = order[bounds[r]:bounds[r + 1]]
         if len(o) > 1:
-            next_c[o] = np.roll(o, -1)
-            prev_c[o] = np.roll(o, 1)
+            next_c[o] = np.concatenate((o[1:], o[:1]))
+            prev_c[o] = np.concatenate((o[-1:], o[:-1]))
     pts = np.stack([f.xc, f.yc], 1)
 
     # Stubs count as used: no path starts on one and no link goes to one.

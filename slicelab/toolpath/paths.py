@@ -53,8 +53,7 @@ def _closed_from(ring: np.ndarray, pos: np.ndarray, seam: str = "nearest", seam_
         k = int(back[np.argmin(ring[back, 0])])  # the rearmost, then leftmost
     else:
         k = int(np.argmin(np.hypot(*(ring - pos).T)))
-    r = np.roll(ring, -k, axis=0)
-    return np.vstack([r, r[:1]])
+    return np.concatenate((ring[k:], ring[:k + 1]))
 
 
 def _island_of(points: np.ndarray, exteriors: list, areas: np.ndarray) -> np.ndarray:
@@ -386,7 +385,7 @@ def _solid_gaps(per: Perimeters, fills: list, sparse: list, region: list):
         uncovered = g.window(r0, c0, shape) & (cov < 128)
         if sparse:
             import cv2
-            edges = np.concatenate([np.stack([r, np.roll(r, -1, axis=0)], 1)
+            edges = np.concatenate([np.stack([r, np.concatenate((r[1:], r[:1]))], 1)
                                     for q in sparse for r in (q.exterior, *q.holes)])
             outside = winding_numbers(edges, r0, c0, shape, p) == 0
             near = cv2.distanceTransform(outside.astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE) * p

@@ -266,7 +266,7 @@ def _areas(lp, raster, solid, s: PrintSettings) -> tuple[float, float, float, fl
     from .masks import bits_in_blocks
     per = lp.perimeters
     p = s.pixel_size
-    edge = sum(float(np.hypot(*(np.roll(r, -1, axis=0) - r).T).sum())
+    edge = sum(float(np.hypot(*(np.concatenate((r[1:], r[:1])) - r).T).sum())
                for q in per.fill for r in (q.exterior, *q.holes))
     total = inner = sol = 0.0
     for f in per.fields:  # over tiles

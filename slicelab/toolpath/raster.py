@@ -95,7 +95,7 @@ class LayerRaster:
 def _edges(loops) -> np.ndarray:
     if not loops:
         return np.zeros((0, 2, 2))
-    return np.concatenate([np.stack([lp, np.roll(lp, -1, axis=0)], axis=1) for lp in loops])
+    return np.concatenate([np.stack([lp, np.concatenate((lp[1:], lp[:1]))], axis=1) for lp in loops])
 
 
 def _crossings(edges: np.ndarray, r_first: int, r_stop: int, pixel_size: float):

@@ -49,8 +49,7 @@ def _outer_rings(geom) -> list[np.ndarray]:
 def _from(ring: np.ndarray, pos: np.ndarray) -> np.ndarray:
     """A ring as a closed polyline from its vertex nearest `pos`."""
     k = int(np.argmin(np.hypot(*(ring - pos).T)))
-    r = np.roll(ring, -k, axis=0)
-    return np.vstack([r, r[:1]])
+    return np.concatenate((ring[k:], ring[:k + 1]))
 
 
 def skirt_loops(section, line_width: float = 0.4, *, loops: int = 1, distance: float = 6.0,

@@ -50,7 +50,7 @@ def _rings_edges(rings) -> np.ndarray:
             continue
         if signed_area(r) < 0:
             r = r[::-1]
-        out.append(np.stack([r, np.roll(r, -1, axis=0)], 1))
+        out.append(np.stack([r, np.concatenate((r[1:], r[:1]))], 1))
     return np.concatenate(out) if out else np.zeros((0, 2, 2))
 
 
