@@ -175,3 +175,26 @@ def test_a_strip_thinner_than_the_disc_across_a_block_seam_opens_to_nothing_from
     assert open_mask(m.to_grid(), 2) is None  # the whole mask's opening: nothing
     monkeypatch.setattr(BlockGrid, "widen", lambda *a, **k: pytest.fail("the opening ran its second pass"))
     assert open_mask(m, 2) is None
+
+
+@pytest.mark.parametrize("rule", ["nonzero", "evenodd"])
+def test_a_shell_inside_another_bounds_material_only_under_evenodd(rule):
+    """Two shells, one inside the other and touching nowhere, both outward: under nonzero the inner
+    one lies in material on both sides (winding 1 and 2) and bounds nothing, so the distances the
+    perimeters follow ignore it; under even-odd it is a hole's wall. A hole (an inward shell) bounds
+    material under both rules. Each loop is judged whole: all of its edges, or none."""
+    s = slicelab.section(concat(box((0, 0, 0), (20, 20, 2)), box((6, 6, 0), (14, 14, 2)),
+                                box((16, 2, 0), (18, 4, 2), inward=True)), (0, 0, 1), (0, 0, 1))
+    (segs,) = rasterize(s, 0.2, rule=rule).segments
+    boxes = {"outer": ((0, 0), (20, 20)), "inner": ((6, 6), (14, 14)), "hole": ((16, 2), (18, 4))}
+
+    def edges_of(lo, hi):  # the section's edges, and the bounding ones, lying in the box lo..hi
+        inside = lambda pts: np.all((pts >= np.array(lo) - 1e-9) & (pts <= np.array(hi) + 1e-9), axis=(-2, -1))  # noqa: E731
+        loops = sum(len(lp) for lp in s.loops if inside(lp[None]))
+        return loops, int(np.count_nonzero(inside(segs)))
+
+    counts = {name: edges_of(*b) for name, b in boxes.items()}
+    assert all(n >= 4 for n, _ in counts.values())
+    assert counts["hole"][1] == counts["hole"][0]  # a hole's wall under both rules
+    assert counts["inner"][1] == (0 if rule == "nonzero" else counts["inner"][0])
+    assert len(segs) == counts["outer"][0] - counts["inner"][0] + counts["inner"][1]  # the outer box holds all

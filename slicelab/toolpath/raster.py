@@ -364,10 +364,17 @@ def rasterize(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margin
         tiles.append(tile)
         sizes = np.array([len(loops[k]) for k in members], np.int64)
         from ..geometry.segment_kernels import loops_touch
-        if not loops_touch(np.ascontiguousarray(edges, np.float64), np.r_[0, np.cumsum(sizes)]):
-            # Loops that nowhere meet: each edge bounds material along its whole length, or
-            # nowhere (buried in another shell), so one look at its middle decides it.
-            seg_lists.append(edges[_bounding(edges, edges, tile, rule)])
+        bounds = np.r_[0, np.cumsum(sizes)]
+        if not loops_touch(np.ascontiguousarray(edges, np.float64), bounds):
+            # Loops that nowhere meet: the winding number is the same all along either side of
+            # a loop, so a loop bounds material along its whole length, or nowhere (buried in
+            # another shell), and one look beside its longest edge decides all of its edges.
+            d = edges[:, 1] - edges[:, 0]
+            length = np.hypot(d[:, 0], d[:, 1])
+            longest = bounds[:-1] + np.array([np.argmax(length[a:b]) for a, b in zip(bounds[:-1], bounds[1:])],
+                                             np.int64)
+            bounding = np.repeat(_bounding(edges[longest], edges, tile, rule), sizes)
+            seg_lists.append(edges[bounding & (length > 0)])
             continue
         # Pieces of at most 4 px, so an edge that is partly buried by another shell keeps its
         # exposed part (to within one piece).
