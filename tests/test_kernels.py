@@ -293,3 +293,27 @@ def test_loops_touch_against_shapely():
         assert loops_touch(edges, bounds) == want, name
         seen.add(want)
     assert seen == {True, False}
+
+
+def test_blocks_near_marks_the_blocks_each_piece_box_meets():
+    """The compiled marking against the definition written out with numpy: each segment cut into
+    pieces no longer than a block (`split_segments`), each piece's pixel box widened by the reach,
+    every block that box meets marked; random segments, pixel sizes, blocks, reaches and ranges
+    (negative coordinates included)."""
+    from slicelab.geometry.blocks import blocks_near
+    from slicelab.geometry.spatial import split_segments
+    rng = np.random.default_rng(7)
+    for _ in range(300):
+        segs = rng.uniform(-50, 50, (int(rng.integers(0, 40)), 2, 2)) * rng.choice([0.01, 0.3, 1, 3])
+        p, size, reach = float(rng.choice([0.05, 0.2, 0.25])), int(rng.choice([4, 16, 32])), int(rng.integers(0, 9))
+        r0, c0 = int(rng.integers(-60, 0)), int(rng.integers(-60, 0))
+        rows, cols = (r0, r0 + int(rng.integers(0, 60))), (c0, c0 + int(rng.integers(0, 60)))
+        want = np.zeros((rows[1] - rows[0] + 1, cols[1] - cols[0] + 1), bool)
+        if len(segs):
+            pieces, _ = split_segments(segs, size * p)
+            lo = np.floor(pieces.min(axis=1) / p).astype(np.int64) - reach
+            hi = np.ceil(pieces.max(axis=1) / p).astype(np.int64) + reach
+            for (x0, y0), (x1, y1) in zip(lo, hi):  # over pieces: the oracle may be slow
+                want[max(y0 // size - rows[0], 0):max(y1 // size - rows[0] + 1, 0),
+                     max(x0 // size - cols[0], 0):max(x1 // size - cols[0] + 1, 0)] = True
+        np.testing.assert_array_equal(blocks_near(segs, p, size, reach, rows, cols), want)

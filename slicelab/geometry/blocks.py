@@ -25,9 +25,6 @@ from functools import cached_property
 
 import numpy as np
 
-from .ragged import expand_ranges
-from .spatial import split_segments
-
 __all__ = ["EMPTY", "FULL", "BlockGrid", "blocks_near"]
 
 EMPTY = -1
@@ -63,21 +60,15 @@ def blocks_near(segments: np.ndarray, pixel_size: float, size: int, reach: int, 
     >>> blocks_near(seg, 1.0, 4, 1, (-1, 1), (0, 3)).astype(int).tolist()
     [[1, 1, 1, 0], [1, 1, 1, 0], [0, 0, 0, 0]]
     """
+    from .segment_kernels import mark_blocks_near
     nr, nc = rows[1] - rows[0] + 1, cols[1] - cols[0] + 1
     table = np.zeros((nr, nc), bool)
     if len(segments) == 0:
         return table
-    p = float(pixel_size)
-    pieces, _ = split_segments(segments, size * p)
-    lo = np.floor(pieces.min(axis=1) / p).astype(np.int64) - reach
-    hi = np.ceil(pieces.max(axis=1) / p).astype(np.int64) + reach
-    r0 = np.clip(lo[:, 1] // size - rows[0], 0, nr)
-    r1 = np.clip(hi[:, 1] // size - rows[0] + 1, 0, nr)
-    c0 = np.clip(lo[:, 0] // size - cols[0], 0, nc)
-    c1 = np.clip(hi[:, 0] // size - cols[0] + 1, 0, nc)
-    k, rr = expand_ranges(r0, np.maximum(r1 - r0, 0))
-    j, cc = expand_ranges(c0[k], np.maximum(c1[k] - c0[k], 0))
-    table[rr[j], cc] = True
+    # One compiled pass over the segments and their pieces: as array operations, some twenty
+    # numpy calls a tile cost more than the marking itself.
+    mark_blocks_near(np.ascontiguousarray(segments, np.float64).reshape(-1, 2, 2), float(pixel_size), int(size),
+                     int(reach), int(rows[0]), int(cols[0]), table)
     return table
 
 

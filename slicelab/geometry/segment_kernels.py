@@ -25,7 +25,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-__all__ = ["nearest_in_buckets", "band_distances", "loops_touch", "cut_at_crossings", "winding_at", "douglas_peucker"]
+__all__ = ["nearest_in_buckets", "band_distances", "loops_touch", "cut_at_crossings", "winding_at", "douglas_peucker",
+           "mark_blocks_near"]
 
 
 @njit(cache=True, nogil=True)
@@ -329,3 +330,40 @@ def douglas_peucker(points, keep, tolerance):
                 stack[top, 0], stack[top, 1] = at, b
                 top += 1
     return out
+
+
+@njit(cache=True, nogil=True)
+def mark_blocks_near(segments, pixel_size, size, reach, row0, col0, table):
+    """Set ``table[i, j]`` for each block (world block ``row0 + i``, ``col0 + j``) holding a pixel
+    within `reach` pixels of a segment's pixel box.
+
+    Each segment is cut into equal pieces no longer than a block, as
+    `slicelab.geometry.spatial.split_segments` cuts it (the same arithmetic, so
+    the same pieces); each piece marks the blocks its pixel box, widened by
+    `reach`, overlaps. One pass over the segments, with no arrays made per step:
+    the compiled form of `slicelab.geometry.blocks.blocks_near`.
+    """
+    nr, nc = table.shape
+    p = pixel_size
+    piece = size * p
+    for i in range(len(segments)):
+        x0, y0, x1, y1 = segments[i, 0, 0], segments[i, 0, 1], segments[i, 1, 0], segments[i, 1, 1]
+        dx, dy = x1 - x0, y1 - y0
+        k = max(1, int(np.ceil(np.hypot(dx, dy) / piece)))
+        for j in range(k):
+            ax, ay = x0 + dx * (j / k), y0 + dy * (j / k)
+            if j + 1 == k:
+                bx, by = x1, y1
+            else:
+                bx, by = x0 + dx * ((j + 1) / k), y0 + dy * ((j + 1) / k)
+            lo_c = int(np.floor(min(ax, bx) / p)) - reach
+            hi_c = int(np.ceil(max(ax, bx) / p)) + reach
+            lo_r = int(np.floor(min(ay, by) / p)) - reach
+            hi_r = int(np.ceil(max(ay, by) / p)) + reach
+            r0 = min(max(lo_r // size - row0, 0), nr)
+            r1 = min(max(hi_r // size - row0 + 1, 0), nr)
+            c0 = min(max(lo_c // size - col0, 0), nc)
+            c1 = min(max(hi_c // size - col0 + 1, 0), nc)
+            for r in range(r0, r1):
+                for c in range(c0, c1):
+                    table[r, c] = True
