@@ -26,7 +26,6 @@ import numpy as np
 
 from ..geometry.blocks import FULL, BlockGrid, blocks_near
 from ..geometry.polygons import signed_area
-from ..geometry.ragged import expand_ranges
 from ..geometry.spatial import split_segments
 from .masks import BlockMask, GridMask
 
@@ -106,17 +105,10 @@ def _crossings(edges: np.ndarray, r_first: int, r_stop: int, pixel_size: float):
     shared by two edges gives both the same verdict, so a row through a vertex
     is counted once.
     """
-    p = float(pixel_size)
-    x0, y0 = edges[:, 0, 0], edges[:, 0, 1]
-    x1, y1 = edges[:, 1, 0], edges[:, 1, 1]
-    r_lo = np.clip(np.ceil(np.minimum(y0, y1) / p).astype(np.int64), r_first, r_stop)
-    r_hi = np.clip(np.ceil(np.maximum(y0, y1) / p).astype(np.int64), r_first, r_stop)
-    idx, rows = expand_ranges(r_lo, r_hi - r_lo)
-    t = (rows * p - y0[idx]) / (y1[idx] - y0[idx])
-    x = x0[idx] + t * (x1[idx] - x0[idx])
-    # An upward edge has the material on its left: pixels right of it leave a winding.
-    step = np.where(y1[idx] > y0[idx], np.int32(-1), np.int32(1))
-    return rows, x, step
+    from ..geometry.segment_kernels import row_crossings
+    # One compiled pass: as array operations, a dozen numpy calls per tile cost more than the work.
+    return row_crossings(np.ascontiguousarray(edges, np.float64).reshape(-1, 2, 2), float(pixel_size), int(r_first),
+                         int(r_stop))
 
 
 def winding_numbers(edges: np.ndarray, row0: int, col0: int, shape, pixel_size: float) -> np.ndarray:
