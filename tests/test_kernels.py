@@ -338,3 +338,23 @@ def test_row_crossings_against_each_edge_and_row_walked_in_python():
         rows, x, step = row_crossings(e, p, first, stop)
         assert rows.tolist() == [w[0] for w in want] and step.tolist() == [w[2] for w in want]
         np.testing.assert_allclose(x, [w[1] for w in want], rtol=0, atol=1e-9)
+
+
+def test_bucket_boxes_lists_each_box_in_every_bucket_it_meets():
+    """Each square bucket lists, in increasing order, exactly the boxes that meet it once widened
+    by a cell (brute force over buckets and boxes); over a limit nothing is listed."""
+    from slicelab.geometry.segment_kernels import bucket_boxes
+    rng = np.random.default_rng(9)
+    for _ in range(100):
+        n, cell = int(rng.integers(1, 25)), float(rng.choice([0.5, 1.0, 2.5]))
+        lo = rng.uniform(-10, 10, (n, 2))
+        hi = lo + rng.uniform(0, 4, (n, 2))
+        origin, width, height, start, owner, fits = bucket_boxes(lo, hi, cell, -1)
+        assert fits and start[-1] == len(owner)
+        for r in range(height):  # over buckets: the oracle may be slow
+            for c in range(width):
+                b_lo = cell * (origin + [c, r])
+                meets = np.all((lo - cell < b_lo + cell) & (hi + cell >= b_lo), axis=1)
+                q = r * width + c
+                assert owner[start[q]:start[q + 1]].tolist() == np.flatnonzero(meets).tolist()
+        assert not bucket_boxes(lo, hi, cell, len(owner) - 1)[5]

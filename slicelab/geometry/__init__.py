@@ -35,7 +35,7 @@ from .._lazy import attach
 # The compiled kernels load numba: only when a layer needs them.
 _KERNELS = ("march_cells", "closed_cycles", "fill_blocks", "sample_blocks", "combine_blocks", "winding_rows", "warm")
 _SEGMENT_KERNELS = ("nearest_in_buckets", "band_distances", "cut_at_crossings", "winding_at", "douglas_peucker",
-                    "mark_blocks_near", "row_crossings")
+                    "mark_blocks_near", "row_crossings", "bucket_boxes")
 __getattr__, __dir__ = attach(__name__, {**{name: "kernels" for name in _KERNELS},
                                          **{name: "segment_kernels" for name in _SEGMENT_KERNELS}}, globals())
 

@@ -510,8 +510,8 @@ def warm() -> None:
     True
     """
     from .offset_kernels import onto_offset
-    from .segment_kernels import (band_distances, cut_at_crossings, douglas_peucker, loops_touch, mark_blocks_near,
-                                  nearest_in_buckets, row_crossings, winding_at)
+    from .segment_kernels import (band_distances, bucket_boxes, cut_at_crossings, douglas_peucker, loops_touch,
+                                  mark_blocks_near, nearest_in_buckets, row_crossings, winding_at)
     i64 = np.zeros(1, np.int64)
     nb = np.full((3, 3, 1), 1, np.int64)
     for dtype in (np.float32, np.float64):
@@ -534,6 +534,7 @@ def warm() -> None:
     winding_at(np.zeros((1, 2)), np.zeros((1, 2, 2)))
     mark_blocks_near(np.zeros((1, 2, 2)), 0.1, 32, 2, 0, 0, np.zeros((1, 1), bool))
     row_crossings(np.zeros((1, 2, 2)), 0.1, 0, 1)
+    bucket_boxes(np.zeros((1, 2)), np.ones((1, 2)), 1.0, -1)
     loops_touch(np.zeros((1, 2, 2)), np.array([0, 1], np.int64))
     onto_offset(np.zeros((1, 2)), np.array([0, 1], np.int64), 0.2, 0.01, 0.05, 0.6, 1.0, 0, 0, 1, 1,
                 np.zeros(2, np.int64), i64, np.zeros((1, 2, 2)))

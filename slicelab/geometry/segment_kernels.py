@@ -26,7 +26,7 @@ import numpy as np
 from numba import njit
 
 __all__ = ["nearest_in_buckets", "band_distances", "loops_touch", "cut_at_crossings", "winding_at", "douglas_peucker",
-           "mark_blocks_near", "row_crossings"]
+           "mark_blocks_near", "row_crossings", "bucket_boxes"]
 
 
 @njit(cache=True, nogil=True)
@@ -403,3 +403,57 @@ def row_crossings(edges, p, r_first, r_stop):
             step[k] = s
             k += 1
     return rows, x, step
+
+
+@njit(cache=True, nogil=True)
+def bucket_boxes(lo, hi, cell, limit):
+    """Boxes [lo, hi], widened by a cell, listed in each square bucket of side `cell` they meet.
+
+    Bucket (col, row) of the grid is ``cell (origin + (col, row))``, numbered ``row width +
+    col``; bucket q lists ``owner[start[q]:start[q + 1]]``, boxes in increasing order. A counting
+    sort in two passes over the boxes.
+
+    Returns
+    -------
+    origin : (2,) int64 ndarray
+    width, height : int
+    start : (width height + 1,) int64 ndarray
+    owner : int64 ndarray
+    fits : bool
+        False (and nothing listed) if the entries would outnumber `limit` (when >= 0).
+    """
+    n = len(lo)
+    b0 = np.empty((n, 2), np.int64)
+    b1 = np.empty((n, 2), np.int64)
+    origin = np.zeros(2, np.int64)
+    top = np.zeros(2, np.int64)
+    total = 0
+    for i in range(n):
+        for a in range(2):
+            b0[i, a] = int(np.floor((lo[i, a] - cell) / cell))
+            b1[i, a] = int(np.floor((hi[i, a] + cell) / cell))
+            if i == 0 or b0[i, a] < origin[a]:
+                origin[a] = b0[i, a]
+            if i == 0 or b1[i, a] > top[a]:
+                top[a] = b1[i, a]
+        total += (b1[i, 0] - b0[i, 0] + 1) * (b1[i, 1] - b0[i, 1] + 1)
+    width = int(top[0] - origin[0]) + 1 if n else 1
+    height = int(top[1] - origin[1]) + 1 if n else 1
+    if 0 <= limit < total:
+        return origin, width, height, np.zeros(1, np.int64), np.zeros(0, np.int64), False
+    start = np.zeros(width * height + 1, np.int64)
+    for i in range(n):
+        for r in range(b0[i, 1] - origin[1], b1[i, 1] - origin[1] + 1):
+            for c in range(b0[i, 0] - origin[0], b1[i, 0] - origin[0] + 1):
+                start[r * width + c + 1] += 1
+    for q in range(width * height):
+        start[q + 1] += start[q]
+    fill = start[:-1].copy()
+    owner = np.empty(total, np.int64)
+    for i in range(n):
+        for r in range(b0[i, 1] - origin[1], b1[i, 1] - origin[1] + 1):
+            for c in range(b0[i, 0] - origin[0], b1[i, 0] - origin[0] + 1):
+                q = r * width + c
+                owner[fill[q]] = i
+                fill[q] += 1
+    return origin, width, height, start, owner, True

@@ -10,7 +10,7 @@ from functools import cached_property
 
 import numpy as np
 
-from .ragged import expand_ranges, within_group
+from .ragged import within_group
 
 __all__ = ["split_segments", "join_collinear", "simplify_chains", "SegmentIndex"]
 
@@ -125,24 +125,16 @@ def simplify_chains(segments: np.ndarray, tolerance: float) -> np.ndarray:
 def _bucketed(lo: np.ndarray, hi: np.ndarray, cell: float, limit: int | None = None):
     """Boxes [lo, hi], widened by a cell, listed in each square bucket of side `cell` they meet.
 
-    Returns (origin, width, height, keys, owners): bucket (col, row) of the grid is
-    ``cell (origin + (col, row))``, keyed ``row width + col``; the keys sorted, and the box each
-    entry lists. None if the entries would outnumber `limit`.
+    Returns (origin, width, height, start, owners): bucket (col, row) of the grid is
+    ``cell (origin + (col, row))``, numbered ``q = row width + col``, and lists the boxes
+    ``owners[start[q]:start[q + 1]]`` (`slicelab.geometry.segment_kernels.bucket_boxes`, one
+    compiled counting sort). None if the entries would outnumber `limit`.
     """
-    if len(lo) == 0:
-        return np.zeros(2, np.int64), 1, 1, np.zeros(0, np.int64), np.zeros(0, np.int64)
-    b0 = np.floor((lo - cell) / cell).astype(np.int64)
-    b1 = np.floor((hi + cell) / cell).astype(np.int64)
-    if limit is not None and ((b1[:, 0] - b0[:, 0] + 1) * (b1[:, 1] - b0[:, 1] + 1)).sum() > limit:
-        return None
-    origin = b0.min(axis=0)
-    width = int(b1[:, 0].max() - origin[0]) + 1
-    height = int(b1[:, 1].max() - origin[1]) + 1
-    box, rows = expand_ranges(b0[:, 1], b1[:, 1] - b0[:, 1] + 1)
-    j, cols = expand_ranges(b0[box, 0], (b1[:, 0] - b0[:, 0] + 1)[box])
-    key = (rows[j] - origin[1]) * width + (cols - origin[0])
-    order = np.argsort(key, kind="stable")
-    return origin, width, height, key[order], box[j][order]
+    from .segment_kernels import bucket_boxes
+    origin, width, height, start, owner, fits = bucket_boxes(
+        np.ascontiguousarray(lo, np.float64).reshape(-1, 2), np.ascontiguousarray(hi, np.float64).reshape(-1, 2),
+        float(cell), -1 if limit is None else int(limit))
+    return (origin, int(width), int(height), start, owner) if fits else None
 
 
 class SegmentIndex:
@@ -209,7 +201,7 @@ class SegmentIndex:
 
     def _buckets(self, reach: float):
         """Square buckets of side `cell` (three times `reach`), each with the segments whose box,
-        widened by a cell, meets it: (cell, origin, width, height, sorted keys, owners), made
+        widened by a cell, meets it: (cell, origin, width, height, start, owners), made
         once for the reaches that share them (between a third of the side and the side), or
         None if candidates would be too many (short segments): the k-d tree does better."""
         cached = self._bucket_cache
@@ -254,8 +246,7 @@ class SegmentIndex:
             return cached[1]
         cell = float(cell)
         pieces, _ = split_segments(self.segments, cell)
-        origin, width, height, key, owner = _bucketed(pieces.min(axis=1), pieces.max(axis=1), cell)
-        start = np.searchsorted(key, np.arange(width * height + 1))
+        origin, width, height, start, owner = _bucketed(pieces.min(axis=1), pieces.max(axis=1), cell)
         out = (origin, width, height, start, owner, np.ascontiguousarray(pieces))
         self._piece_cache = (cell, out)
         return out
@@ -267,13 +258,13 @@ class SegmentIndex:
         buckets = self._buckets(reach)
         if buckets is None:
             return None
-        cell, origin, width, height, key, owner = buckets
+        cell, origin, width, height, listed, owner = buckets
         qb = np.floor(q / cell).astype(np.int64) - origin
         inside = (qb[:, 0] >= 0) & (qb[:, 0] < width) & (qb[:, 1] >= 0) & (qb[:, 1] < height)
         # A point outside the buckets is farther than a cell from every segment: no candidates.
-        qk = np.where(inside, qb[:, 1] * width + qb[:, 0], -1)
-        start = np.searchsorted(key, qk)
-        count = np.where(inside, np.searchsorted(key, qk, side="right") - start, 0)
+        qk = np.where(inside, qb[:, 1] * width + qb[:, 0], 0)
+        start = listed[qk]
+        count = np.where(inside, listed[qk + 1] - start, 0)
         if count.sum() > 64 * len(q) + 4096:
             return None
         from .segment_kernels import nearest_in_buckets
