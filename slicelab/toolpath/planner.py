@@ -181,10 +181,10 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     `window` maps a layer's index to its section for these layers and the
     `bottom_layers` below and `top_layers` above them (their skins need them);
     `z_tops` are the tops of these layers. The nozzle is carried from one layer to the
-    next within each run of `_RUN` layers (and from `first`) and starts afresh at each run, so
-    the paths do not depend on how runs are grouped into calls. Each layer is rasterised once, when the first
-    layer that reads it comes, and dropped when the last has. Everything comes as arguments:
-    a pool's worker needs no state from the parent.
+    next within each run of `_RUN` layers (and from `first`) and starts afresh at each run,
+    so the paths do not depend on how runs are grouped into calls. Each layer is rasterised
+    once, when the first layer that reads it comes, and dropped when the last has. Everything
+    comes as arguments: a pool's worker needs no state from the parent.
     """
     from .overhangs import layer_overhangs, mark_overhangs
     from .paths import layer_paths
@@ -373,7 +373,8 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
         from .pool import forked_pool
         bar = _bar(n, progress)
         with forked_pool(workers) as pool:
-            futures = {pool.submit(_run_chunk, *job(a, b)): (a, b) for a, b in _costliest_first(chunks, sections, s)}
+            futures = {pool.submit(_run_chunk, *job(a, b)): (a, b)
+                       for a, b in _costliest_first(chunks, sections, s)}
             for fut in as_completed(futures):
                 results += fut.result()
                 a, b = futures[fut]
