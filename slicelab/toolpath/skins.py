@@ -75,11 +75,11 @@ def layer_skins(k: int, masks: dict, skins: Skins, line_width: float):
     if skin.area == 0:
         return None, None
     radius = max(1, int(round(0.5 * line_width / mine.pixel_size)))
+    solid = open_mask(skin, radius)
+    if solid is None:  # the exposed part lies in the skin, and opening a smaller set keeps less
+        return None, None
     # The top surface proper: what the very next layer leaves exposed (the skin under it is
     # solid infill, as PrusaSlicer types it).
-    solid = open_mask(skin, radius)
-    if solid is None:  # the exposed part lies in the skin, and an opening keeps no more of less
-        return None, None
     above = masks.get(k + 1)
     exposed = top if above is None else top - above
     return solid, (open_mask(exposed, radius) if exposed.area > 0 else None)

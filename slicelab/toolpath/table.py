@@ -13,6 +13,7 @@ slicelab.toolpath.roles : the kinds and roles, their G-code words and colours.
 from __future__ import annotations
 
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -209,15 +210,16 @@ class LayerPaths:
     @property
     def extrusion_length(self) -> float:
         """Total length of all extrusions (mm)."""
-        return self._sums()[0]
+        return self._sums[0]
 
     def extruded_area(self) -> float:
         """Sum of length x width over the extrusions (mm^2): the material laid per unit height."""
-        return self._sums()[1]
+        return self._sums[1]
 
+    @cached_property
     def _sums(self) -> tuple[float, float]:
-        """Length and length x width of every extrusion, summed over the layer at once: the rows'
-        points in one array, the segments that join two rows left out."""
+        """Length and length x width of every extrusion, summed over the layer at once (the rows'
+        points in one array, the segments that join two rows left out), once per table."""
         rows = [(q, w) for q, w in zip(self.paths, self.widths) if len(q)]
         if not rows:
             return 0.0, 0.0
