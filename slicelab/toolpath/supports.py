@@ -19,6 +19,17 @@ Rasterising a layer and the projection cost the grid's pixels (the part's
 footprint at `PIXEL`, a few hundred thousand at most), one vectorised pass
 per layer.
 
+Notes
+-----
+A cantilever (material held by the part on one side only) is unheld as a whole
+(`slicelab.toolpath.overhangs`), and its first layer is laid as solid infill over
+the interface: its supports cover the whole underside. PrusaSlicer, with its
+default ``dont_support_bridges``, lays the first layer of such a region as bridge
+infill and supports only a band under its outline (its perimeters and a margin),
+so under a mushroom's cap it lays far less support. Over the same extent
+(``--no-dont-support-bridges``) its supports are the denser: the same pitch
+(gap plus about a line width), a loop around each region and a denser first layer.
+
 See Also
 --------
 slicelab.toolpath.planner.plan : adds the supports' paths to each layer.
