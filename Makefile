@@ -10,21 +10,26 @@ PYTEST_ARGS ?=
 $(BIN)/python:
 	$(PYTHON) -m venv $(VENV)
 
-# After installing, the compiled kernels are built once (numba's disk cache, about 20 s), as an
-# install would: no later run, test worker or pool process compiles them again.
-WARM := $(BIN)/python -c "from slicelab.geometry import kernels; kernels.warm()"
+# After installing, and again whenever their sources change, the compiled kernels are built
+# (about 40 s): ahead of time into an extension module where a C compiler is at hand, and into
+# numba's disk cache, the fallback (slicelab.geometry.compiled). No run compiles them again.
+EXT     := _aot_kernels
+KERNELS := $(addprefix slicelab/geometry/,compiled.py kernels.py segment_kernels.py offset_kernels.py)
+BUILD   := $(BIN)/python -c "from slicelab.geometry import compiled; print(compiled.build())"
 
 $(VENV)/.installed: pyproject.toml | $(BIN)/python
 	$(PIP) -e .
-	$(WARM)
 	touch $@
 
 $(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
 	$(PIP) -e '.[dev]'
-	$(WARM)
 	touch $@ $(VENV)/.installed
 
-data: $(VENV)/.installed
+$(VENV)/.kernels: $(KERNELS) $(VENV)/.installed
+	$(BUILD)
+	touch $@
+
+data: $(VENV)/.installed $(VENV)/.kernels
 	$(BIN)/python scripts/make_data.py
 
 data-large: $(VENV)/.installed
@@ -33,15 +38,15 @@ data-large: $(VENV)/.installed
 demo: data
 	$(BIN)/python scripts/demo.py
 
-test: $(VENV)/.installed-dev
+test: $(VENV)/.installed-dev $(VENV)/.kernels
 	$(BIN)/python scripts/make_data.py
 	$(BIN)/python -m pytest -n auto --nbmake tests notebooks slicelab $(PYTEST_ARGS)
 
 figures: data
 	$(BIN)/python scripts/figures.py
 
-bench: data-large $(VENV)/.installed-dev
+bench: data-large $(VENV)/.installed-dev $(VENV)/.kernels
 	for s in scripts/bench_*.py; do $(BIN)/python $$s || exit 1; done
 
 clean:
-	rm -rf $(VENV) results .pytest_cache
+	rm -rf $(VENV) results .pytest_cache slicelab/geometry/$(EXT)*

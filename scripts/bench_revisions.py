@@ -29,6 +29,17 @@ sys.path.insert(0, str(ROOT / "scripts"))
 from bench_slice import LAYER, PARTS, PERIMETERS, SAME_SPEEDS, SOLID, WIDTH, INFILL  # noqa: E402
 
 
+#: The kernels of a tree compiled once, as `make` does after installing: built ahead of time where the
+#: tree can (`slicelab.geometry.compiled`), else compiled by numba into its disk cache.
+_BUILD = """
+try:
+    from slicelab.geometry.compiled import build
+except ImportError:
+    from slicelab.geometry.kernels import warm as build
+build()
+"""
+
+
 def slice_command(mesh: Path, out: Path, scale: float | None, support: bool) -> list[str]:
     """The command line of `scripts/bench_slice.py` for one part (skirt off, a bed large enough)."""
     cmd = [sys.executable, "-m", "slicelab", "slice", str(mesh), "-o", str(out), "--layer-height", str(LAYER),
@@ -66,8 +77,7 @@ def main(argv=None) -> int:
                    capture_output=True)
     try:
         env = dict(os.environ, PYTHONPATH=str(other))
-        subprocess.run([sys.executable, "-c", "from slicelab.geometry import kernels; kernels.warm()"],
-                       cwd=other, env=env, check=True)  # its kernels compiled once, as an install does
+        subprocess.run([sys.executable, "-c", _BUILD], cwd=other, env=env, check=True)  # as an install does
         trees = {"this tree": ROOT, args.rev: other}
         print(f"{args.repeat} alternating runs per tree and part; wall seconds (min / median); "
               f"ratio = this tree / {args.rev} (medians)")

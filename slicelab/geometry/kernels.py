@@ -23,9 +23,12 @@ References
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
-# LLVM's count-trailing-zeros: the next crossed cell of a row of bits in one instruction.
-from numba.cpython.unsafe.numbers import trailing_zeros
+
+from .compiled import njit
+
+#: numba's intrinsics the kernels call, imported with numba only when it compiles them: LLVM's
+#: count-trailing-zeros finds the next crossed cell of a row of bits in one instruction.
+_NUMBA_GLOBALS = {"trailing_zeros": "numba.cpython.unsafe.numbers:trailing_zeros"}
 
 __all__ = ["march_cells", "closed_cycles", "fill_blocks", "sample_blocks", "combine_blocks", "winding_rows",
            "warm"]
@@ -497,16 +500,19 @@ def winding_rows(key, total, row_start, r_first, c_first, stride, rows0, cols0, 
 
 
 def warm() -> None:
-    """Compile (or load from the disk cache) every kernel for the types the layers use.
+    """Call every kernel once with the types the layers use.
 
-    Called once before a pool's workers fork, so that they inherit the
-    machine code instead of each compiling it (about ten seconds, once per
-    installation; later runs load it from the cache in a fraction of a second).
+    Called once before a pool's workers fork, so that they inherit the loaded
+    kernels instead of each loading them: the built module
+    (`slicelab.geometry.compiled`), or numba's forms (compiled on first use,
+    about twenty seconds once per installation; later runs load them from its
+    disk cache in a few tenths of a second).
 
     Examples
     --------
     >>> warm()
-    >>> len(march_cells.signatures) >= 2
+    >>> from slicelab.geometry.compiled import status
+    >>> status() in ("loaded", "not built", "off") or status().startswith(("stale", "unusable"))
     True
     """
     from .offset_kernels import onto_offset

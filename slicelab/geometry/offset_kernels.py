@@ -20,7 +20,8 @@ References
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from .compiled import njit
 
 __all__ = ["onto_offset"]
 

@@ -23,7 +23,8 @@ References
 from __future__ import annotations
 
 import numpy as np
-from numba import njit
+
+from .compiled import njit
 
 __all__ = ["nearest_in_buckets", "band_distances", "loops_touch", "cut_at_crossings", "winding_at", "douglas_peucker",
            "mark_blocks_near", "row_crossings", "bucket_boxes"]

@@ -1,0 +1,324 @@
+"""The compiled kernels: built ahead of time into an extension module, else compiled by numba on first use.
+
+The kernels of `slicelab.geometry.kernels`, `slicelab.geometry.segment_kernels`
+and `slicelab.geometry.offset_kernels` are plain Python functions decorated
+with this module's `njit`. Each call goes to one of two compiled forms of
+the same source:
+
+- **ahead of time**: `build` compiles every kernel, for each argument type it
+  is called with, into an extension module beside this file (numba's
+  ``pycc``, which needs a C compiler), with a table of those types. Loading
+  it takes a millisecond and needs no numba at run time; numba's own start
+  (its import and first load of cached kernels) is a few tenths of a second
+  at every command, more than many small parts take to slice.
+- **just in time**: numba, compiled on the first call and cached on disk
+  (`numba.njit`), for any argument types. It is used wherever the built
+  module is missing (no compiler at install), stale (its sources' hash is not
+  the sources' hash now) or has no entry for the arguments' types.
+
+A call looks its arguments' types up in the table first (each array's dtype,
+dimensions, layout and writability, each scalar's type, as numba types them),
+so a compiled function only ever receives the types it was compiled for.
+
+See Also
+--------
+slicelab.geometry.kernels.warm : calls every kernel once with the types the layers use.
+
+References
+----------
+.. [1] S. K. Lam, A. Pitrou, S. Seibert, "Numba: a LLVM-based Python JIT
+   compiler", LLVM-HPC 2015 (``numba.pycc``: ahead-of-time compilation).
+"""
+from __future__ import annotations
+
+import hashlib
+import importlib
+import json
+import os
+import sys
+from pathlib import Path
+
+import numpy as np
+
+__all__ = ["njit", "Kernel", "build", "status", "select", "arguments_key"]
+
+#: The modules whose kernels are built, in this package.
+MODULES = ("kernels", "segment_kernels", "offset_kernels")
+#: Name of the extension module `build` writes beside this file, and of its table.
+EXTENSION = "_aot_kernels"
+_HERE = Path(__file__).resolve().parent
+_TABLE = _HERE / f"{EXTENSION}.json"
+
+#: numba's types of Python scalars (on a 64-bit machine), as numpy dtype strings.
+_SCALARS = {int: "<i8", float: "<f8", bool: "|b1"}
+
+
+def arguments_key(args) -> tuple | None:
+    """The types of a call's arguments as numba would type them: for an array its dtype,
+    dimensions, layout ("C", "F" or "A") and writability, for a scalar its dtype; None if an
+    argument is of another kind (the call then goes to numba).
+
+    Examples
+    --------
+    >>> a = np.zeros((3, 2))
+    >>> arguments_key((a, a[:, 0], 1, 2.0, True, np.float32(1)))
+    (('<f8', 2, 'C', True), ('<f8', 1, 'A', True), '<i8', '<f8', '|b1', '<f4')
+    """
+    out = []
+    for a in args:
+        t = type(a)
+        if t is np.ndarray:
+            f = a.flags
+            out.append((a.dtype.str, a.ndim, "C" if f.c_contiguous else "F" if f.f_contiguous else "A",
+                        f.writeable))
+        elif t in _SCALARS:
+            out.append(_SCALARS[t])
+        elif isinstance(a, np.generic):
+            out.append(a.dtype.str)
+        else:
+            return None
+    return tuple(out)
+
+
+def _type_key(t) -> tuple | str | None:
+    """`arguments_key`'s entry for a numba type (None: not one a call can be matched to)."""
+    from numba.core import types
+    if isinstance(t, types.Array):
+        return (np.dtype(str(t.dtype)).str, t.ndim, t.layout, bool(t.mutable))
+    if isinstance(t, (types.Integer, types.Float, types.Boolean)):
+        return np.dtype(str(t)).str
+    return None
+
+
+def _sources_hash() -> str:
+    """A hash of the kernels' sources and of this module: a built module made from other
+    sources is not used."""
+    h = hashlib.sha256()
+    for name in (*MODULES, "compiled"):
+        h.update((_HERE / f"{name}.py").read_bytes())
+    return h.hexdigest()
+
+
+class Kernel:
+    """A kernel: its Python source, called through the built module or numba.
+
+    Parameters
+    ----------
+    py_func : function
+        The kernel as written.
+    options : dict
+        `numba.njit`'s options for the just-in-time form.
+    """
+
+    def __init__(self, py_func, options: dict):
+        self.py_func = py_func
+        self.options = options
+        self.__name__ = py_func.__name__
+        self.__qualname__ = py_func.__qualname__
+        self.__module__ = py_func.__module__
+        self.__doc__ = py_func.__doc__
+        self.__wrapped__ = py_func
+        self.table: dict | None = None  # arguments_key -> built function, from `_load`
+        self.dispatcher = None  # the numba form, made on first need
+
+    def __repr__(self) -> str:
+        return f"<compiled kernel {self.__module__}.{self.__name__}>"
+
+    def __call__(self, *args):
+        table = self.table
+        if table is None:  # the first call of any kernel: the built module is looked for
+            status()
+            table = self.table
+        if table:
+            f = table.get(arguments_key(args))
+            if f is not None:
+                return f(*args)
+        return self.jit()(*args)
+
+    def jit(self):
+        """The numba form (compiled on first call, cached on disk), its module's kernels with it."""
+        if self.dispatcher is None and self.__module__ in sys.modules:
+            _jit_module(sys.modules[self.__module__])
+        if self.dispatcher is None:  # a kernel its module does not hold (made elsewhere)
+            import numba
+            self.dispatcher = numba.njit(**self.options)(self.py_func)
+        return self.dispatcher
+
+
+def njit(**options):
+    """Decorator making a function a `Kernel` (numba's `njit` options, for the just-in-time form).
+
+    Examples
+    --------
+    >>> @njit(cache=False)
+    ... def twice(a):
+    ...     return 2 * a
+    >>> twice(np.arange(3)).tolist()
+    [0, 2, 4]
+    """
+    def decorate(fn):
+        k = Kernel(fn, options)
+        _REGISTRY[f"{fn.__module__.rpartition('.')[2]}.{fn.__name__}"] = k
+        return k
+
+    return decorate
+
+
+def _jit_module(module) -> None:
+    """numba forms of every kernel of a module, which it then holds in place of the kernels, so
+    that numba, compiling one, finds the others it calls (and the intrinsics listed in the
+    module's ``_NUMBA_GLOBALS``, name -> "module:attribute")."""
+    import numba
+    for name, where in getattr(module, "_NUMBA_GLOBALS", {}).items():
+        mod, _, attr = where.partition(":")
+        module.__dict__[name] = getattr(importlib.import_module(mod), attr)
+    for name, value in list(vars(module).items()):
+        if isinstance(value, Kernel) and value.__module__ == module.__name__:
+            if value.dispatcher is None:
+                value.dispatcher = numba.njit(**value.options)(value.py_func)
+            module.__dict__[name] = value.dispatcher
+
+
+#: Every kernel, by "module.function" (the module's last name).
+_REGISTRY: dict = {}
+
+
+def _kernels() -> dict:
+    """Every kernel of the kernel modules, by "module.function"."""
+    for m in MODULES:
+        importlib.import_module(f"{__package__}.{m}")
+    return {name: k for name, k in _REGISTRY.items() if name.partition(".")[0] in MODULES}
+
+
+def _load() -> str:
+    """Attach the built module's functions to the kernels; say how it went."""
+    for k in _kernels().values():
+        k.table = {}
+    if not _TABLE.exists():
+        return "not built"
+    try:
+        table = json.loads(_TABLE.read_text())
+        if table.get("sources") != _sources_hash():
+            return "stale (built from other sources)"
+        ext = importlib.import_module(f"{__package__}.{EXTENSION}")
+    except (OSError, ValueError, ImportError) as exc:
+        return f"unusable ({type(exc).__name__}: {exc})"
+    kernels = _kernels()
+    for qualname, entries in table["exports"].items():
+        k = kernels.get(qualname)
+        if k is not None:
+            k.table = {_as_key(key): getattr(ext, export) for key, export in entries}
+    return "loaded"
+
+
+def _as_key(key: list) -> tuple:
+    """A key as stored in JSON (lists) back to `arguments_key`'s tuples."""
+    return tuple(tuple(k) if isinstance(k, list) else k for k in key)
+
+
+_STATUS: list = []
+
+
+def status() -> str:
+    """Whether the kernels run from the built module: "loaded", "not built", "stale (...)",
+    "unusable (...)" or "off" (the environment variable ``SLICELAB_JIT=1`` asks for numba alone).
+
+    Examples
+    --------
+    >>> status() in ("loaded", "not built", "off") or status().startswith(("stale", "unusable"))
+    True
+    """
+    if not _STATUS:
+        if os.environ.get("SLICELAB_JIT") == "1":
+            for k in _kernels().values():
+                k.table = {}
+            _STATUS.append("off")
+        else:
+            _STATUS.append(_load())
+    return _STATUS[0]
+
+
+def select(ahead_of_time: bool = True) -> str:
+    """Look for the built module again (``ahead_of_time=True``) or leave every call to numba;
+    return the new `status`.
+
+    Examples
+    --------
+    >>> select(False)
+    'off'
+    >>> select() != 'off'
+    True
+    """
+    _STATUS.clear()
+    if not ahead_of_time:
+        for k in _kernels().values():
+            k.table = {}
+        _STATUS.append("off")
+    return status()
+
+
+def build(*, quiet: bool = False) -> str:
+    """Compile every kernel ahead of time into the extension module beside this file.
+
+    The kernels are first compiled by numba and called by `slicelab.geometry.kernels.warm`
+    (which also fills numba's disk cache, the fallback), then each is compiled ahead of
+    time for every argument type numba has seen. Without a C compiler, or if anything
+    fails, nothing is written and numba's forms serve.
+
+    Returns
+    -------
+    str
+        What was built, or why not.
+
+    See Also
+    --------
+    status : whether a process runs the kernels from the built module.
+    """
+    import logging
+    import tempfile
+    import warnings
+
+    from . import kernels
+    for m in MODULES:
+        _jit_module(importlib.import_module(f"{__package__}.{m}"))
+    select(False)  # every call to numba, which records the types
+    kernels.warm()
+    exports, entries = [], {}
+    for qualname, k in _kernels().items():
+        d = k.jit()
+        for i, sig in enumerate(d.signatures):
+            key = tuple(_type_key(t) for t in sig)
+            if any(x is None for x in key):
+                continue
+            name = f"{qualname.replace('.', '__')}__{i}"
+            exports.append((name, d.overloads[sig].signature, k.py_func))
+            entries.setdefault(qualname, []).append([key, name])
+    try:
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # pycc's pending deprecation
+            logging.getLogger("numba").setLevel(logging.ERROR)
+            from numba.pycc import CC
+            with tempfile.TemporaryDirectory() as tmp:
+                cc = CC(EXTENSION)
+                cc.output_dir = tmp
+                cc.target_cpu = "host"  # as numba's own forms: this machine's instructions
+                cc.verbose = False
+                for name, sig, fn in exports:
+                    cc.export(name, sig)(fn)
+                cc.compile()
+                built = next(Path(tmp).glob(f"{EXTENSION}*"))
+                target = _HERE / built.name
+                os.replace(built, target) if built.stat().st_dev == _HERE.stat().st_dev \
+                    else target.write_bytes(built.read_bytes())
+    except Exception as exc:  # no compiler, no pycc: numba's forms serve
+        _TABLE.unlink(missing_ok=True)
+        msg = f"kernels not built ahead of time ({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}); numba compiles them on first use"
+        if not quiet:
+            print(msg, file=sys.stderr)
+        return msg
+    tmp_table = _TABLE.with_suffix(".json.part")
+    tmp_table.write_text(json.dumps({"sources": _sources_hash(), "exports": entries}))
+    os.replace(tmp_table, _TABLE)
+    # This process goes on with numba's forms: an extension module, once imported, is not
+    # imported again, so the new one serves from the next process on.
+    return f"{len(exports)} kernel forms built ahead of time into {target.name}"
