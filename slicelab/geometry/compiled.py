@@ -284,16 +284,24 @@ def build(*, quiet: bool = False) -> str:
     select(False)  # every call to numba, which records the types
     kernels.warm()
     exports, entries = [], {}
-    for qualname, k in _kernels().items():
-        d = k.jit()
-        for i, sig in enumerate(d.signatures):
-            key = tuple(_type_key(t) for t in sig)
-            if any(x is None for x in key):
-                continue
-            name = f"{qualname.replace('.', '__')}__{i}"
-            exports.append((name, d.overloads[sig].signature, k.py_func))
-            entries.setdefault(qualname, []).append([key, name])
     try:
+        from numba.core import types
+        for qualname, k in _kernels().items():
+            if k.__name__.startswith("_"):  # helpers: compiled into the kernels that call them
+                continue
+            d = k.jit()
+            seen = set()
+            for sig in d.signatures:
+                # A literal argument (numba may type a constant 0 as Literal[int](0)) is built for
+                # its type: a built function serves every value of it.
+                args = tuple(types.unliteral(t) for t in sig)
+                key = tuple(_type_key(t) for t in args)
+                if any(x is None for x in key) or key in seen:
+                    continue
+                seen.add(key)
+                name = f"{qualname.replace('.', '__')}__{len(seen) - 1}"
+                exports.append((name, types.unliteral(d.overloads[sig].signature.return_type)(*args), k.py_func))
+                entries.setdefault(qualname, []).append([key, name])
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")  # pycc's pending deprecation
             logging.getLogger("numba").setLevel(logging.ERROR)
@@ -312,7 +320,8 @@ def build(*, quiet: bool = False) -> str:
                     else target.write_bytes(built.read_bytes())
     except Exception as exc:  # no compiler, no pycc: numba's forms serve
         _TABLE.unlink(missing_ok=True)
-        msg = f"kernels not built ahead of time ({type(exc).__name__}: {str(exc).splitlines()[0] if str(exc) else ''}); numba compiles them on first use"
+        why = str(exc).splitlines()[0] if str(exc) else ""
+        msg = f"kernels not built ahead of time ({type(exc).__name__}: {why}); numba compiles them on first use"
         if not quiet:
             print(msg, file=sys.stderr)
         return msg
