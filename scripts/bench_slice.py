@@ -21,7 +21,8 @@ and bytecode on disk as a user's first run does; wall time, peak memory (the sum
 process and its children, sampled every 20 ms) and the filament each G-code extrudes are
 printed, with the ratios, and the G-code itself: bytes, extrusion moves, the median extrusion
 move and the share of extrusion moves under 0.1 mm (a printer's planner stutters on streams of
-tiny moves). A summary table ends the run. Cost: linear in the layers; a layer's cost follows
+tiny moves). A summary table ends the run, with the floor of any Python slicer's wall time here: a
+process that imports the libraries a slice needs and does nothing else. Cost: linear in the layers; a layer's cost follows
 its boundary (`scripts/bench_layers.py` prints the growth). PrusaSlicer is Debian's
 `prusa-slicer` (`apt-get install -y prusa-slicer`); the comparison is skipped with a note when it
 is absent. The machine is shared, so timings are noisy.
@@ -252,6 +253,10 @@ def bench_part(label: str, mesh: Path, scale: float | None, args, prusa: str | N
     return row
 
 
+#: What every `slicelab slice` imports before it reads a file: the floor of its wall time.
+FLOOR = "import numpy, cv2, shapely, scipy.sparse, scipy.spatial, skimage.morphology"
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--mesh", type=Path, action="append", help="a part to run instead of the set (repeatable)")
@@ -266,11 +271,14 @@ def main(argv=None) -> int:
           f"per tool, medians compared")
     if prusa is None:
         print("prusa-slicer is not installed (apt-get install -y prusa-slicer): no comparison")
-    # One untimed run first, as a user's first run after installing: it compiles the kernels
-    # (numba's disk cache) and the modules' bytecode, which every later run loads.
+    # One untimed run first, as a user's first run after installing: it writes the modules' bytecode
+    # (and, where `make` did not build the kernels, numba's disk cache), which every later run loads.
     with tempfile.TemporaryDirectory() as tmp:
         run([sys.executable, "-m", "slicelab", "slice", str(ROOT / "data" / "bridge.stl"), "-o",
              str(Path(tmp) / "warm.gcode")])
+    floor = statistics.median(run([sys.executable, "-c", FLOOR])[0] for _ in range(5))
+    print(f"floor: a Python process importing the libraries a slice needs (numpy, OpenCV, shapely, SciPy, "
+          f"scikit-image), nothing else: {floor:.2f} s (median of 5)")
     rows = []
     for label, mesh, scale, support in parts:
         if not mesh.exists():
@@ -291,6 +299,7 @@ def main(argv=None) -> int:
         else:
             print(f"{r['part']:<15}{r['ours_s']:>11.1f}{'-':>9}{'-':>7}{r['ours_mb']:>9.0f}{'-':>9}{'-':>8}"
                   f"{100 * r['short']:>7.1f}%{'-':>9}")
+    print(f"floor: {floor:.2f} s before any work (the libraries' imports, above)")
     print("targets: wall time <= PrusaSlicer's, G-code <= 1.3x, <= 5 % of moves under 0.1 mm, filament within "
           "10 %, peak memory under 1500 MB, print-time estimate within 15 %")
     return 0
