@@ -64,20 +64,30 @@ def arguments_key(args) -> tuple | None:
     >>> arguments_key((a, a[:, 0], 1, 2.0, True, np.float32(1)))
     (('<f8', 2, 'C', True), ('<f8', 1, 'A', True), '<i8', '<f8', '|b1', '<f4')
     """
+    # Every kernel call passes here (some ninety a layer): a dtype's string is looked up, not
+    # made again, and flags are read once per array.
     out = []
     for a in args:
         t = type(a)
-        if t is np.ndarray:
+        if t is _NDARRAY:
+            d = a.dtype
+            name = _DTYPES.get(d)
+            if name is None:
+                name = _DTYPES[d] = d.str
             f = a.flags
-            out.append((a.dtype.str, a.ndim, "C" if f.c_contiguous else "F" if f.f_contiguous else "A",
-                        f.writeable))
-        elif t in _SCALARS:
-            out.append(_SCALARS[t])
-        elif isinstance(a, np.generic):
-            out.append(a.dtype.str)
+            out.append((name, a.ndim, "C" if f.c_contiguous else "F" if f.f_contiguous else "A", f.writeable))
         else:
-            return None
+            name = _SCALARS.get(t)
+            if name is None:
+                if not isinstance(a, np.generic):
+                    return None
+                name = a.dtype.str
+            out.append(name)
     return tuple(out)
+
+
+_NDARRAY = np.ndarray
+_DTYPES: dict = {}
 
 
 def _type_key(t) -> tuple | str | None:
