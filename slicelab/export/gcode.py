@@ -33,6 +33,7 @@ from ..toolpath.settings import settings_dict
 from ..toolpath.printers import MARLIN_END, MARLIN_START, render_gcode
 from ..toolpath.roles import STYLES
 from .files import atomic_open
+from .text_kernels import fixed
 from .svg import SvgDrawing
 
 __all__ = ["write_gcode", "gcode_lines", "write_svgs", "layer_fan"]
@@ -302,12 +303,18 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
     rows[:, :2] = xy
     rows[:, 2] = z
     rows[1:, 3] = e
-    values = None
+    values = moves_text = line_at = None
     if text:
         shown = np.empty((n, 3))
         shown[:, :2] = xy
         shown[1:, 2] = e
-        values = shown.ravel().tolist()
+        # Every extrusion move of the layer formatted in one compiled pass (Python's digits);
+        # a value it cannot format (not finite, or huge) leaves the layer to Python's %.
+        formatted = fixed(shown)
+        if formatted is None:
+            values = shown.ravel().tolist()
+        else:
+            moves_text, line_at = formatted[0], formatted[1].tolist()
     starts, stops = begins.tolist(), ends.tolist()
     filament = 0.0
     current_type = None
@@ -347,7 +354,12 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
             speed = max(min(speed, min_speed), speed * factor)
         out.append(f";WIDTH:{mean_width[i]:.3f}\nG1 F{60 * speed:.0f}\n")
         if text:
-            out.append(_G1 * (b - a - 1) % tuple(values[3 * a + 3:3 * b]) if b - a > 1 else "\n")
+            if b - a < 2:
+                out.append("\n")
+            elif moves_text is not None:  # the moves to points a + 1 .. b - 1
+                out.append(moves_text[line_at[a + 1]:line_at[b]])
+            else:
+                out.append(_G1 * (b - a - 1) % tuple(values[3 * a + 3:3 * b]))
         block = rows[a + 1:b]
         block[:, 4] = round(60 * speed) / 60
         moves.block(block)

@@ -1,8 +1,8 @@
 """The compiled kernels: built ahead of time into an extension module, else compiled by numba on first use.
 
-The kernels of `slicelab.geometry.kernels`, `slicelab.geometry.segment_kernels`
-and `slicelab.geometry.offset_kernels` are plain Python functions decorated
-with this module's `njit`. Each call goes to one of two compiled forms of
+The kernels of `slicelab.geometry.kernels`, `slicelab.geometry.segment_kernels`,
+`slicelab.geometry.offset_kernels` and `slicelab.export.text_kernels` are plain
+Python functions decorated with this module's `njit`. Each call goes to one of two compiled forms of
 the same source:
 
 - **ahead of time**: `build` compiles every kernel, for each argument type it
@@ -42,8 +42,8 @@ import numpy as np
 
 __all__ = ["njit", "Kernel", "build", "status", "select", "arguments_key"]
 
-#: The modules whose kernels are built, in this package.
-MODULES = ("kernels", "segment_kernels", "offset_kernels")
+#: The modules whose kernels are built (in slicelab).
+MODULES = ("geometry.kernels", "geometry.segment_kernels", "geometry.offset_kernels", "export.text_kernels")
 #: Name of the extension module `build` writes beside this file, and of its table.
 EXTENSION = "_aot_kernels"
 _HERE = Path(__file__).resolve().parent
@@ -104,8 +104,8 @@ def _sources_hash() -> str:
     """A hash of the kernels' sources and of this module: a built module made from other
     sources is not used."""
     h = hashlib.sha256()
-    for name in (*MODULES, "compiled"):
-        h.update((_HERE / f"{name}.py").read_bytes())
+    for name in (*MODULES, "geometry.compiled"):
+        h.update((_HERE.parent / f"{name.replace('.', '/')}.py").read_bytes())
     return h.hexdigest()
 
 
@@ -195,9 +195,11 @@ _REGISTRY: dict = {}
 
 def _kernels() -> dict:
     """Every kernel of the kernel modules, by "module.function"."""
+    last = set()
     for m in MODULES:
-        importlib.import_module(f"{__package__}.{m}")
-    return {name: k for name, k in _REGISTRY.items() if name.partition(".")[0] in MODULES}
+        importlib.import_module(f"slicelab.{m}")
+        last.add(m.rpartition(".")[2])
+    return {name: k for name, k in _REGISTRY.items() if name.partition(".")[0] in last}
 
 
 def _load() -> str:
@@ -270,8 +272,8 @@ def select(ahead_of_time: bool = True) -> str:
 def build(*, quiet: bool = False) -> str:
     """Compile every kernel ahead of time into the extension module beside this file.
 
-    The kernels are first compiled by numba and called by `slicelab.geometry.kernels.warm`
-    (which also fills numba's disk cache, the fallback), then each is compiled ahead of
+    The kernels are first compiled by numba and called by their modules' ``warm``
+    (`slicelab.geometry.kernels.warm`, which also fills numba's disk cache, the fallback), then each is compiled ahead of
     time for every argument type numba has seen. Without a C compiler, or if anything
     fails, nothing is written and numba's forms serve.
 
@@ -288,11 +290,13 @@ def build(*, quiet: bool = False) -> str:
     import tempfile
     import warnings
 
-    from . import kernels
-    for m in MODULES:
-        _jit_module(importlib.import_module(f"{__package__}.{m}"))
+    modules = [importlib.import_module(f"slicelab.{m}") for m in MODULES]
+    for module in modules:
+        _jit_module(module)
     select(False)  # every call to numba, which records the types
-    kernels.warm()
+    for module in modules:  # each module's kernels called with the types its callers pass
+        if hasattr(module, "warm"):
+            module.warm()
     exports, entries = [], {}
     try:
         from numba.core import types
