@@ -101,9 +101,9 @@ def _type_key(t) -> tuple | str | None:
 
 
 def _sources_hash() -> str:
-    """A hash of the kernels' sources and of this module: a built module made from other
-    sources is not used."""
-    h = hashlib.sha256()
+    """A hash of the kernels' sources, of this module and of numpy's version (the built module
+    unboxes its arrays): a module built from other sources, or for another numpy, is not used."""
+    h = hashlib.sha256(np.__version__.encode())
     for name in (*MODULES, "geometry.compiled"):
         h.update((_HERE.parent / f"{name.replace('.', '/')}.py").read_bytes())
     return h.hexdigest()
@@ -323,7 +323,9 @@ def build(*, quiet: bool = False) -> str:
             with tempfile.TemporaryDirectory() as tmp:
                 cc = CC(EXTENSION)
                 cc.output_dir = tmp
-                cc.target_cpu = "host"  # as numba's own forms: this machine's instructions
+                # The processor's baseline instructions (pycc's default), not this machine's own: the
+                # module still runs if the installation moves to another x86-64 processor, and a
+                # layer took the same time either way (scripts/profile_layers.py, alternating).
                 cc.verbose = False
                 for name, sig, fn in exports:
                     cc.export(name, sig)(fn)
