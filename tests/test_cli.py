@@ -16,7 +16,9 @@ def run(*args):
 
 def test_version():
     r = run("--version")
-    assert r.returncode == 0 and r.stdout.strip() == f"slicelab {slicelab.__version__}"
+    assert r.returncode == 0 and r.stdout.startswith(f"slicelab {slicelab.__version__} (compiled kernels: ")
+    from slicelab.geometry.compiled import status
+    assert ("built ahead of time" in r.stdout) == (status() == "loaded")
 
 
 @pytest.mark.parametrize("command", COMMANDS)

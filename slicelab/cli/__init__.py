@@ -29,12 +29,26 @@ _TABLE = {**analysis.COMMANDS, **fabrication.COMMANDS}
 COMMANDS = ["inspect", "section", "layers", "split", "profile", "batch", "cut", "partition", "arrange", "slice"]
 
 
+class _Version(argparse.Action):
+    """``--version``: the version, and whether the kernels run from the module built at install
+    (`slicelab.geometry.compiled.status`), which a slow start or a bug report needs to know."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        from ..geometry.compiled import status
+        state = status()
+        how = {"loaded": "built ahead of time", "off": "numba's, as SLICELAB_JIT=1 asks"}.get(
+            state, f"numba's, compiled on first use; the ahead-of-time module: {state}")
+        print(f"slicelab {__version__} (compiled kernels: {how})")
+        parser.exit()
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every subcommand."""
     parser = argparse.ArgumentParser(
         prog="slicelab",
         description="Exact slicing of STL meshes: checks, sections, splits, cuts and toolpaths.")
-    parser.add_argument("--version", action="version", version=f"slicelab {__version__}")
+    parser.add_argument("--version", action=_Version, nargs=0,
+                        help="show the version and how the compiled kernels load, and exit")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND")
     sub.required = True
     for name in COMMANDS:
