@@ -358,3 +358,46 @@ def test_bucket_boxes_lists_each_box_in_every_bucket_it_meets():
                 q = r * width + c
                 assert owner[start[q]:start[q + 1]].tolist() == np.flatnonzero(meets).tolist()
         assert not bucket_boxes(lo, hi, cell, len(owner) - 1)[5]
+
+
+@pytest.mark.parametrize("b", [3, 8])  # 9 pixels a block: byte by byte; 64: eight pixels a word
+def test_combine_blocks_is_the_set_operation_of_the_whole_masks(b):
+    from slicelab.geometry.kernels import combine_blocks
+    rng = np.random.default_rng(b)
+    bb = b * b
+
+    def random_mask(shape):
+        kind = rng.choice([-1, -2, 0], size=shape, p=[0.3, 0.2, 0.5])
+        table = np.full(shape, -1, np.int64)
+        held = np.flatnonzero(kind.ravel() == 0)
+        table.ravel()[held] = np.arange(len(held))
+        table[kind == -2] = -2
+        bits = (rng.random((len(held), bb)) < rng.choice([0.0, 0.5, 1.0], size=(len(held), 1))).astype(np.uint8)
+        return table, bits
+
+    def whole(table, bits, r, c, r0, c0, nr, nc):  # the mask's blocks on world blocks r0.., c0..
+        out = np.zeros((nr, nc, bb), np.uint8)
+        for i in range(nr):
+            for j in range(nc):
+                ti, tj = r0 + i - r, c0 + j - c
+                if 0 <= ti < table.shape[0] and 0 <= tj < table.shape[1]:
+                    s = table[ti, tj]
+                    out[i, j] = 1 if s == -2 else (0 if s == -1 else bits[s])
+        return out
+
+    for _ in range(20):
+        ta, bits_a = random_mask((5, 6))
+        tb, bits_b = random_mask((4, 7))
+        ra, ca, rb, cb = 2, -1, 3, 0
+        for op, f in ((0, np.bitwise_and), (1, lambda x, y: x & (1 - y)), (2, np.bitwise_or)):
+            r0, c0, nr, nc = 1, -2, 8, 10
+            table, bits = combine_blocks(op, bb, ta, ra, ca, bits_a.ravel(), tb, rb, cb, bits_b.ravel(), r0, c0,
+                                         nr, nc)
+            expected = f(whole(ta, bits_a, ra, ca, r0, c0, nr, nc), whole(tb, bits_b, rb, cb, r0, c0, nr, nc))
+            got = whole(table, bits.reshape(-1, bb), r0, c0, r0, c0, nr, nc)
+            np.testing.assert_array_equal(got, expected)
+            # Canonical: all-clear blocks empty, all-set full, the held ones in row-major order.
+            held = table[table >= 0]
+            np.testing.assert_array_equal(held, np.arange(len(held)))
+            sums = bits.reshape(-1, bb).sum(axis=1)
+            assert np.all((sums > 0) & (sums < bb))
