@@ -274,3 +274,20 @@ def test_center_places_the_part_and_is_checked(tmp_path):
     r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(f), "-o", str(out), "--center", "5,100"],
                        capture_output=True, text=True)
     assert r.returncode == 2 and "bed" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+
+
+def test_mid_air_counts_each_island_of_a_layer():
+    # Three squares far apart on one layer (one tile): under the first lies material, under the
+    # second a square that misses it, under the third nothing. Two islands start in mid-air.
+    from layer_shapes import rect, section_of
+
+    from slicelab.toolpath.overhangs import layer_overhangs
+    from slicelab.toolpath.raster import rasterize
+    layer = rasterize(section_of([rect(0, 0, 4, 4), rect(30, 0, 34, 4), rect(0, 40, 4, 44)]), 0.2)
+    below = rasterize(section_of([rect(1, 1, 3, 3), rect(40, 0, 44, 4)]), 0.2).combined()
+    assert len(layer.tiles) == 1 and len(layer.island_boxes) == 3
+    ov = layer_overhangs(layer.combined(), below, 0.2, islands=layer)
+    assert ov.mid_air == 2
+    assert layer_overhangs(layer.combined(), None, 0.2, islands=layer).mid_air == 3
+    on_all = rasterize(section_of([rect(1, 1, 3, 3), rect(31, 1, 33, 3), rect(1, 41, 3, 43)]), 0.2).combined()
+    assert layer_overhangs(layer.combined(), on_all, 0.2, islands=layer).mid_air == 0

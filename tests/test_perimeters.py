@@ -305,3 +305,18 @@ def test_thin_walls_and_gaps_keep_their_gap_fill_at_coarse_pixels(pixel, wall):
             inner = (pts[:, 0] > 1) & (pts[:, 0] < 19)  # away from the ends, where the skeleton forks
             assert np.abs(pts[inner, 1] - mid).max() <= 0.6 * pixel + 0.01
             assert np.all((width >= 0.2 - 1e-9) & (width <= 0.6 + 1e-9))
+
+
+def test_thin_islands_are_counted_one_by_one_in_a_shared_tile():
+    # Far-apart islands share the layer's tile: a 5 mm square (its perimeters fit), a 0.3 mm
+    # wall (too thin for one) and a ring whose hole is an island of its own (an island in a hole:
+    # counted on the pixels). One thin island each time.
+    square, wall = rect(0, 0, 5, 5), rect(20, 0, 30, 0.3) + (0.012, 0.017)
+    assert perimeters(section_of([square]), 0.4, 2, pixel_size=P).thin_walls == 0
+    per = perimeters(section_of([square, wall]), 0.4, 2, pixel_size=P)
+    assert per.thin_walls == 1 and len(per.rings[0]) == 1 and len(per.gap_fill) == 1
+    ring = [rect(40, 0, 50, 10), rect(42, 2, 48, 8)[::-1], rect(44.9, 3, 45.2, 7)]  # a thin bar in the hole
+    per = perimeters(section_of([square, *ring]), 0.4, 2, pixel_size=P)
+    assert per.thin_walls == 1
+    per = perimeters(section_of([square, wall, *ring]), 0.4, 2, pixel_size=P)
+    assert per.thin_walls == 2

@@ -84,12 +84,19 @@ def test_grid_is_anchored_to_the_world_origin():
     assert (a | b).area == pytest.approx(2 * a.area - (a & b).area)
 
 
-def test_tiles_are_cropped_per_island():
+def test_far_islands_share_a_tile_but_cost_their_boundaries():
+    # Two 2 mm squares 500 mm apart: one tile for the layer, pixels held only near the squares,
+    # each island counted and drawn in its own box (the window between them is never made).
     far = section_of([rect(0, 0, 2, 2), rect(500, 300, 502, 302)])
     r = rasterize(far, 0.05)
-    assert len(r.tiles) == 2
-    assert sum(t.mask.size for t in r.tiles) < 2 * (2 / 0.05 + 8) ** 2
-    assert abs(r.area - 8.0) < 0.5
+    assert len(r.tiles) == 1 and r.loop_island.tolist() == [0, 1]
+    assert r.pixels <= 2 * 4 * 32 ** 2  # at most four blocks of 32 px round each square
+    assert r.island_pixels().tolist() == [1600, 1600] and abs(r.area - 8.0) < 1e-9
+    box = r.island_boxes[1]
+    assert box.tolist() == [300 / 0.05 - 3, 500 / 0.05 - 3, 302 / 0.05 + 3, 502 / 0.05 + 3]
+    h = raster_hierarchy(r)
+    assert sorted(h.loop.tolist()) == [0, 1] and h.depth.tolist() == [0, 0]
+    assert "mask" not in vars(r.tiles[0])  # the tile's whole window was not assembled
 
 
 def test_transform_and_indices_round_trip():

@@ -95,7 +95,7 @@ def _crop(mask) -> tuple[int, int, tuple] | None:
             (int(rows[-1] - rows[0]) + 1, int(cols[-1] - cols[0]) + 1))
 
 
-def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0, islands=(),
+def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0, islands=None,
                     min_anchor: float | None = None) -> LayerOverhangs:
     """Bridges, unheld overhang and mid-air islands of a layer.
 
@@ -109,9 +109,9 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
         How far below the layer below lies (mm).
     threshold : float, default 50
         Overhang angle from the vertical (degrees) up to which a wall holds itself.
-    islands : sequence of masks, optional
-        The layer's islands (a `LayerRaster`'s tiles): those with nothing under them are
-        counted in `LayerOverhangs.mid_air`.
+    islands : LayerRaster, optional
+        The layer's raster (`mine` is its material): its islands with nothing under them are
+        counted in `LayerOverhangs.mid_air` (without it, the layer counts as one island).
     min_anchor : float, optional
         Smallest anchor (mm^2) that holds a bridge; default four pixels.
 
@@ -135,14 +135,17 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
     import cv2
     p = mine.pixel_size
     mid_air = 0
+    n_islands = len(islands.island_boxes) if islands is not None else 0
     if below is None:
         diff = mine
-        mid_air = len(islands) if islands else 1
+        mid_air = n_islands or 1
     else:
         diff = mine - below
-        for tile in islands:  # over the layer's islands, few
-            if tile.area > 0 and (tile & below).area == 0:
-                mid_air += 1
+        if n_islands > 1:  # the islands' pixels, and those over the layer below, in their boxes
+            over = islands.island_pixels(mine & below)
+            mid_air = int(np.count_nonzero((islands.island_pixels(mine) > 0) & (over == 0)))
+        elif n_islands == 1 and mine.area > 0 and (mine & below).area == 0:
+            mid_air = 1
     if diff.area == 0:
         return LayerOverhangs(mid_air=mid_air)
     reach = layer_height * math.tan(math.radians(threshold))

@@ -284,6 +284,30 @@ def _one_island(loops: list) -> bool:
     return not holes or bool(points_in_ring(np.array(holes), outer).all())
 
 
+def _islands_unreached(raster, t: int, rings: list, field, level: float) -> int:
+    """Islands of tile t that the first perimeter level does not reach (too thin for a perimeter).
+
+    An island that is one outer loop with holes in it is reached if a ring of the level lies in
+    its box (`LayerRaster.island_boxes`); if every island of the tile is such an island, none is
+    missed. Otherwise the tile's missed islands are counted on its pixels (`_islands_missed`).
+    """
+    members = np.flatnonzero(raster.loop_tile == t)
+    islands = raster.loop_island[members] if len(raster.loop_island) else np.zeros(len(members), np.int64)
+    ids = np.unique(islands)
+    if len(raster.island_boxes):
+        r0, c0, r1, c1 = raster.island_boxes[ids].T
+    else:  # a raster made without islands: its tile is one box
+        r0 = c0 = np.array([np.iinfo(np.int64).min])
+        r1 = c1 = np.array([np.iinfo(np.int64).max])
+    at = np.array([ring[0] for ring in rings], np.float64).reshape(-1, 2) / raster.pixel_size
+    x, y = at[:, :1], at[:, 1:]
+    reached = ((x >= c0) & (x <= c1) & (y >= r0) & (y <= r1)).any(axis=0)
+    for island, ok in zip(ids, reached):  # over islands, few
+        if not (ok and _one_island([raster.loops[i] for i in members[islands == island]])):
+            return _islands_missed(field, level)
+    return 0
+
+
 def _islands_missed(field, level: float) -> int:
     """Islands of a tile the level does not reach (too thin for a perimeter).
 
@@ -377,11 +401,11 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
         # Only perimeter levels are refined: the filling limit needs no sub-pixel accuracy.
         fld = distance_field(tile, index, levels, depth=depth)
         fields.append(fld)
-        reached = False
+        first = []
         for k, level in enumerate(levels):  # over levels
             found = level_rings(fld, level, tolerance=tol, index=index)
             rings_by_level[k] += found
-            reached |= k == 0 and len(found) > 0
+            first = found if k == 0 else first
         # The filling's region: its level set where the opening keeps it, the opening's edge
         # elsewhere (the field lowered below the level there), simplified to half a pixel (at
         # most 0.05 mm). Its mask is taken half a pixel lower, as its pixels' centres lie inside
@@ -396,10 +420,8 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
         g, gw = medial_fill_blocks(tile.blocks, unc, p, w, min_gap)
         gaps += g
         gap_w += gw
-        # One island (an outer loop and holes in it) is reached if the first level has a ring.
-        if n_perimeters and not (reached and _one_island([raster.loops[i] for i in
-                                                           np.flatnonzero(raster.loop_tile == t)])):
-            thin += _islands_missed(fld, float(levels[0]))
+        if n_perimeters:
+            thin += _islands_unreached(raster, t, first, fld, float(levels[0]))
     solid_rings = []
     if solid is not None and fill_rings and 0 < solid_px == fill_px:  # all of the filling is solid
         solid_rings, fill_rings = fill_rings, []

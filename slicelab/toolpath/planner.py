@@ -217,7 +217,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
         ov = None
         if k > 0 and masks[k] is not None:  # the first layer lies on the bed
             ov = layer_overhangs(masks[k], masks.get(k - 1), s.layer_height, threshold=s.overhang_threshold,
-                                 islands=rasters[k].tiles)
+                                 islands=rasters[k])
         parity = k % 2
         solid_angle = (s.infill_angle + 90.0 * parity) if s.solid_angle is None else s.solid_angle
         bridges = list(ov.bridges) if ov else []

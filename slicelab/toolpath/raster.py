@@ -20,14 +20,14 @@ to the boundary, not to the area of the island's box.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 from ..geometry.blocks import FULL, BlockGrid, blocks_near
 from ..geometry.polygons import signed_area
 from ..geometry.spatial import split_segments
-from .masks import BlockMask, GridMask
+from .masks import BlockMask, GridMask, pixels_in_boxes
 
 __all__ = ["GridMask", "LayerRaster", "RasterContours", "rasterize", "winding_numbers", "winding_blocks",
            "raster_blocks", "raster_hierarchy", "draw_polylines", "RULES", "BLOCK", "BAND"]
@@ -39,16 +39,16 @@ BAND = 1.5  # mm of pixels kept along the boundary by default: two perimeters of
 
 @dataclass(frozen=True, eq=False)
 class LayerRaster:
-    """A section rasterised: one mask per group of islands whose boxes overlap.
+    """A section rasterised: one mask for the layer, and its islands.
 
     `rasterize` makes one; `raster_hierarchy` gives the contour tree of its masks.
 
     Attributes
     ----------
     tiles : tuple of BlockMask
-        Each tile's window is the bounding box of its islands plus a margin;
-        tiles never overlap in material. Pixels are held within `band` of the
-        boundary.
+        The layer's mask (one tile; none for an empty layer): its window is the
+        bounding box of the loops plus a margin. Pixels are held within `band`
+        of the boundary.
     pixel_size : float
     rule : str
         ``"nonzero"`` or ``"evenodd"``.
@@ -62,6 +62,12 @@ class LayerRaster:
         to these.
     band : float
         Every pixel within this distance (mm) of the boundary is held.
+    loop_island : (L,) int ndarray
+        The island of each loop: loops whose boxes (plus the margin) overlap, directly or
+        through others, make one island.
+    island_boxes : (I, 4) int ndarray
+        Each island's box of world pixels (first row, first column, last row, last column):
+        its loops' boxes plus the margin. No two meet.
     """
 
     tiles: tuple
@@ -71,6 +77,8 @@ class LayerRaster:
     loop_tile: np.ndarray
     segments: list
     band: float = BAND
+    loop_island: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    island_boxes: np.ndarray = field(default_factory=lambda: np.zeros((0, 4), np.int64))
 
     @property
     def area(self) -> float:
@@ -85,6 +93,19 @@ class LayerRaster:
     def combined(self):
         """All tiles in one mask (window: the union of the tile windows)."""
         return GridMask.union(self.tiles, self.pixel_size)
+
+    def island_pixels(self, mask=None) -> np.ndarray:
+        """Pixels of `mask` (default: the layer's own material) in each island's box, (I,) int.
+
+        Examples
+        --------
+        >>> from types import SimpleNamespace
+        >>> square = lambda x0, x1: np.array([[x0, 0], [x1, 0], [x1, x1 - x0], [x0, x1 - x0]], float)
+        >>> r = rasterize(SimpleNamespace(loops=[square(0, 2), square(5, 6)]), 0.1)   # 2 mm and 1 mm squares
+        >>> len(r.tiles), r.island_pixels().tolist()
+        (1, [400, 100])
+        """
+        return pixels_in_boxes(self.combined() if mask is None else mask, self.island_boxes)
 
     def __repr__(self) -> str:
         return (f"LayerRaster({len(self.tiles)} tiles, {self.pixels} px held, "
@@ -319,7 +340,7 @@ def rasterize(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margin
     rule : {"nonzero", "evenodd"}
         Fill rule for overlapping or inside-out loops.
     margin : int, default 3
-        Empty pixels kept around each tile.
+        Empty pixels kept around each island (loops whose widened boxes meet make one).
     band : float, default `BAND`
         Pixels within this distance (mm) of the boundary are held; blocks
         further inside or outside are held as a whole (`raster_blocks`).
@@ -349,19 +370,25 @@ def rasterize(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margin
         return LayerRaster((), p, rule, [], np.zeros(0, np.int64), [], float(band))
     lo = np.array([lp.min(axis=0) for lp in loops])
     hi = np.array([lp.max(axis=0) for lp in loops])
-    # Pixel-index boxes, widened by the margin so tiles that would touch are merged.
+    # Pixel-index boxes, widened by the margin: loops whose boxes meet make one island.
     plo = np.floor(lo / p).astype(np.int64) - margin
     phi = np.ceil(hi / p).astype(np.int64) + margin
     group = _groups(plo, phi)
-    tiles, seg_lists = [], []
-    for g in range(group.max() + 1):  # over tiles, few
+    n_islands = int(group.max()) + 1
+    boxes = np.empty((n_islands, 4), np.int64)
+    for g in range(n_islands):  # over islands, few
         members = np.flatnonzero(group == g)
-        c0, r0 = plo[members].min(axis=0)
-        c1, r1 = phi[members].max(axis=0)
-        shape = (int(r1 - r0 + 1), int(c1 - c0 + 1))
+        boxes[g, 1::-1], boxes[g, 3:1:-1] = plo[members].min(axis=0), phi[members].max(axis=0)
+    # One tile for the whole layer, however many islands: each stage of a tile (distance field,
+    # level sets, openings) has a fixed cost, and blocks far from every boundary cost nothing.
+    c0, r0 = plo.min(axis=0)
+    c1, r1 = phi.max(axis=0)
+    shape = (int(r1 - r0 + 1), int(c1 - c0 + 1))
+    tile = raster_blocks(_edges(loops), int(r0), int(c0), shape, p, rule=rule, band=band, size=block)
+    seg_lists = []
+    for g in range(n_islands):  # over islands: which of their edges bound material
+        members = np.flatnonzero(group == g)
         edges = _edges([loops[k] for k in members])
-        tile = raster_blocks(edges, int(r0), int(c0), shape, p, rule=rule, band=band, size=block)
-        tiles.append(tile)
         sizes = np.array([len(loops[k]) for k in members], np.int64)
         from ..geometry.segment_kernels import loops_touch
         bounds = np.r_[0, np.cumsum(sizes)]
@@ -380,7 +407,8 @@ def rasterize(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margin
         # exposed part (to within one piece).
         pieces, _ = split_segments(edges, 4 * p)
         seg_lists.append(_exposed(pieces, edges, tile, rule))
-    return LayerRaster(tuple(tiles), p, rule, loops, group.astype(np.int64), seg_lists, float(band))
+    return LayerRaster((tile,), p, rule, loops, np.zeros(len(loops), np.int64), [np.concatenate(seg_lists)],
+                       float(band), group.astype(np.int64), boxes)
 
 
 def _exposed(pieces, edges, tile, rule: str = "nonzero") -> np.ndarray:
@@ -474,7 +502,15 @@ def raster_hierarchy(raster: LayerRaster) -> RasterContours:
     loop_lo = np.array([lp.min(axis=0) for lp in raster.loops]).reshape(-1, 2)
     loop_hi = np.array([lp.max(axis=0) for lp in raster.loops]).reshape(-1, 2)
     loop_ccw = np.array([signed_area(lp) > 0 for lp in raster.loops], bool)
-    for t, tile in enumerate(raster.tiles):  # over tiles
+    # Island by island, each in its own box: far-apart islands share a tile, not a window.
+    if len(raster.island_boxes):
+        parts = [(t, GridMask(tile.window(r0, c0, (r1 - r0 + 1, c1 - c0 + 1)), r0, c0, p),
+                  np.flatnonzero((raster.loop_tile == t) & (raster.loop_island == g)))
+                 for t, tile in enumerate(raster.tiles)
+                 for g, (r0, c0, r1, c1) in enumerate(raster.island_boxes.tolist())]
+    else:  # a raster made without islands: each tile whole
+        parts = [(t, tile, np.flatnonzero(raster.loop_tile == t)) for t, tile in enumerate(raster.tiles)]
+    for t, tile, cand in parts:  # over islands
         cs, hier = cv2.findContours(tile.mask.astype(np.uint8), cv2.RETR_TREE, cv2.CHAIN_APPROX_SIMPLE)
         if hier is None:
             continue
@@ -486,7 +522,6 @@ def raster_hierarchy(raster: LayerRaster) -> RasterContours:
                 dep[k] += 1
                 j = par[j]
         base = len(contours)
-        cand = np.flatnonzero(raster.loop_tile == t)
         used = set()
         order = np.argsort([-cv2.contourArea(c) for c in cs], kind="stable")
         match = np.full(len(cs), -1, np.int64)

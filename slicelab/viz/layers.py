@@ -57,9 +57,14 @@ def plot_raster(raster, hierarchy=None, ax=None, *, cmap="tab10"):
 
     from ..toolpath.raster import raster_hierarchy
     ax = _axes(ax)
-    for tile in raster.tiles:
-        ax.imshow(tile.mask, origin="lower", extent=tile.extent, cmap="Greys", vmin=0, vmax=2,
-                  interpolation="nearest")
+    from ..toolpath.masks import GridMask
+    for tile in raster.tiles:  # each island in its own box (far-apart islands share a tile)
+        boxes = raster.island_boxes.tolist() or [(tile.row0, tile.col0, tile.row0 + tile.shape[0] - 1,
+                                                  tile.col0 + tile.shape[1] - 1)]
+        for r0, c0, r1, c1 in boxes:
+            win = GridMask(tile.window(r0, c0, (r1 - r0 + 1, c1 - c0 + 1)), r0, c0, raster.pixel_size)
+            ax.imshow(win.mask, origin="lower", extent=win.extent, cmap="Greys", vmin=0, vmax=2,
+                      interpolation="nearest")
     h = raster_hierarchy(raster) if hierarchy is None else hierarchy
     colours = plt.get_cmap(cmap)
     for c, d in zip(h.contours, h.depth):
