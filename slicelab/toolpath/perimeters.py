@@ -28,13 +28,14 @@ from types import SimpleNamespace
 
 import numpy as np
 
-from ..geometry.contours import march, march_blocks, simplify_ring
+from ..geometry.contours import march, march_blocks
 from ..geometry.polygons import Polygon, build_polygons, loop_hierarchy, points_in_ring, signed_area
 from ..geometry.spatial import SegmentIndex
 from .distance import distance_field, level_rings
 from .gapfill import disc, medial_fill, medial_fill_blocks, uncovered_blocks
 from .masks import BlockMask, GridMask, bits_in_blocks
 from .raster import BAND, LayerRaster, rasterize
+from .simplify import simplify_rings
 
 __all__ = ["level_polygons", "Perimeters", "layer_perimeters", "medial_fill", "mask_rings", "perimeter_depth",
            "perimeter_band", "split_by_mask"]
@@ -174,13 +175,49 @@ def _mask_rings(mask) -> list[np.ndarray]:
     else:
         r0, c0 = mask.row0 - 1, mask.col0 - 1
         rings = march(np.pad(mask.mask, 1).astype(np.float32), 0.5)
+    rings = [c for c in rings if len(c)]
+    if not rings:
+        return []
+    # Every ring simplified in one compiled pass: a quarter pixel keeps the corners of the staircases.
+    rings = simplify_rings(rings, 0.25)
+    sizes = np.array([len(c) for c in rings])
+    rc = np.concatenate(rings)
+    xy = np.stack([(c0 + rc[:, 1]) * p, (r0 + rc[:, 0]) * p], 1)
     out = []
-    for c in rings:  # over rings: a quarter pixel keeps the corners of the staircases
-        c = simplify_ring(c, 0.25)
-        xy = np.stack([(c0 + c[:, 1]) * p, (r0 + c[:, 0]) * p], 1)
-        if len(xy) >= 3 and abs(signed_area(xy)) >= 4 * p * p:
-            out.append(xy)
+    for ring in np.split(xy, np.cumsum(sizes)[:-1]):  # over rings: the smallest are dropped
+        if len(ring) >= 3 and abs(signed_area(ring)) >= 4 * p * p:
+            out.append(ring)
     return out
+
+
+def _mask_polygons(rings: list[np.ndarray]) -> list:
+    """Shapely polygons of a mask's rings (`_mask_rings`): the counter-clockwise rings with the
+    clockwise ones inside them as holes, in the order of their exteriors.
+
+    The same polygons as `level_polygons`: rings traced round a mask's pixels never cross, so a
+    hole lies in the smallest outer ring that holds its first vertex, and where only one outer
+    ring's box holds it, that ring is the one (no point-in-ring test).
+    """
+    import shapely
+    areas = np.array([signed_area(r) for r in rings])
+    outer = np.flatnonzero(areas >= 0)
+    lo = np.array([r.min(axis=0) for r in rings]).reshape(-1, 2)
+    hi = np.array([r.max(axis=0) for r in rings]).reshape(-1, 2)
+    holes = {int(k): [] for k in outer}
+    extra = {}
+    for k in np.flatnonzero(areas < 0):  # over holes
+        v = rings[k][0]
+        cand = outer[np.all((v >= lo[outer]) & (v <= hi[outer]), axis=1) & (np.abs(areas[outer]) >= -areas[k])]
+        if len(cand) > 1:  # islands in holes: the smallest outer ring that holds the vertex
+            cand = cand[[bool(points_in_ring(v[None], rings[j])[0]) for j in cand]]
+            cand = cand[np.argsort(areas[cand], kind="stable")[:1]]
+        if len(cand):
+            holes[int(cand[0])].append(rings[k])
+        else:  # no outer ring round it: an inside-out ring, taken reversed
+            extra[int(k)] = rings[k][::-1]
+    polys = {k: shapely.Polygon(rings[k], holes[k]) for k in holes}
+    polys.update({k: shapely.Polygon(r) for k, r in extra.items()})
+    return [polys[k] for k in sorted(polys)]
 
 
 def _rings_of(geometry) -> list[np.ndarray]:
@@ -224,14 +261,15 @@ def split_by_mask(polygons: list[Polygon], mask, min_area: float = 0.0) -> tuple
     if not polygons:
         return [], []
 
-    def merged(polys):
+    def merged(parts):
         # The polygons of one level are disjoint: together they are one valid shape, unless
         # simplification made two of them touch (then shapely merges them).
-        shape = shapely.MultiPolygon([shapely.Polygon(q.exterior, q.holes) for q in polys])
+        shape = shapely.MultiPolygon(parts)
         return shape if shapely.is_valid(shape) else shapely.union_all(shapely.get_parts(shape))
 
-    region = merged(polygons)
-    cut = merged(level_polygons(_mask_rings(mask)))
+    region = merged([shapely.Polygon(q.exterior, q.holes) for q in polygons])
+    rings = _mask_rings(mask)
+    cut = merged(_mask_polygons(rings)) if rings else shapely.MultiPolygon()
 
     def keep(geometry):
         return [r for r in _rings_of(geometry) if abs(signed_area(r)) >= min_area]
