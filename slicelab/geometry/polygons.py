@@ -29,13 +29,15 @@ def signed_area(points: np.ndarray) -> float:
     return float(0.5 * (np.dot(x[:-1], y[1:]) - np.dot(x[1:], y[:-1])))
 
 
-def loop_hierarchy(loops: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+def loop_hierarchy(loops: list[np.ndarray], areas: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Nesting depth and parent of each closed loop.
 
     Parameters
     ----------
     loops : list of (k, 2) ndarray
         Non-crossing closed rings.
+    areas : (L,) ndarray, optional
+        Their signed areas (`signed_area`), when already known.
 
     Returns
     -------
@@ -55,9 +57,12 @@ def loop_hierarchy(loops: list[np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
     parent = np.full(L, -1, dtype=np.int64)
     if L < 2:
         return depth, parent
-    areas = np.array([abs(signed_area(p)) for p in loops])
-    lo = np.array([p.min(axis=0) for p in loops])
-    hi = np.array([p.max(axis=0) for p in loops])
+    areas = np.abs(np.array([signed_area(p) for p in loops]) if areas is None else np.asarray(areas))
+    # Every loop's box in two passes over all the vertices.
+    sizes = np.array([len(p) for p in loops])
+    pts = np.concatenate(loops)
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    lo, hi = np.minimum.reduceat(pts, starts, axis=0), np.maximum.reduceat(pts, starts, axis=0)
     # A loop's first vertex stands for it; the midpoint of its first edge would tie with a
     # touching neighbour as often.
     reps = np.array([p[0] for p in loops])
@@ -124,11 +129,13 @@ class Polygon:
         return signed_area(self.exterior) + sum(signed_area(h) for h in self.holes)
 
 
-def build_polygons(loops: list[np.ndarray], depth: np.ndarray, parent: np.ndarray) -> list[Polygon]:
+def build_polygons(loops: list[np.ndarray], depth: np.ndarray, parent: np.ndarray,
+                   areas: np.ndarray | None = None) -> list[Polygon]:
     """Group loops into polygons: counter-clockwise loops are exteriors, clockwise ones holes.
 
     A clockwise loop with no counter-clockwise parent (an inside-out shell) is
-    reported as an exterior of its own, reversed.
+    reported as an exterior of its own, reversed. `areas`, the loops' signed
+    areas, are measured here unless given.
 
     Examples
     --------
@@ -138,7 +145,7 @@ def build_polygons(loops: list[np.ndarray], depth: np.ndarray, parent: np.ndarra
     >>> len(polys), len(polys[0].holes), polys[0].area
     (1, 1, 15.0)
     """
-    areas = np.array([signed_area(p) for p in loops])
+    areas = np.array([signed_area(p) for p in loops]) if areas is None else np.asarray(areas)
     polys: dict[int, list] = {}
     for k in np.flatnonzero(areas >= 0):
         polys[int(k)] = [loops[k], [], int(depth[k])]

@@ -141,9 +141,10 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
         mid_air = n_islands or 1
     else:
         diff = mine - below
-        if n_islands > 1:  # the islands' pixels, and those over the layer below, in their boxes
+        if n_islands > 1:  # the islands' pixels over the layer below, in their boxes
             over = islands.island_pixels(mine & below)
-            mid_air = int(np.count_nonzero((islands.island_pixels(mine) > 0) & (over == 0)))
+            if not over.all():  # some island has none: has it pixels at all?
+                mid_air = int(np.count_nonzero((islands.island_pixels(mine) > 0) & (over == 0)))
         elif n_islands == 1 and mine.area > 0 and (mine & below).area == 0:
             mid_air = 1
     if diff.area == 0:

@@ -56,7 +56,8 @@ def level_polygons(rings: list[np.ndarray]) -> list[Polygon]:
     """
     if not rings:
         return []
-    return build_polygons(rings, *loop_hierarchy(rings))
+    areas = np.array([signed_area(r) for r in rings])  # once, for the nesting and the kinds
+    return build_polygons(rings, *loop_hierarchy(rings, areas), areas)
 
 
 @dataclass(frozen=True, eq=False)
