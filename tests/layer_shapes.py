@@ -13,7 +13,7 @@ def section_of(loops) -> Section:
     loops = [np.asarray(lp, float) for lp in loops]
     segs = np.concatenate([np.stack([lp, np.roll(lp, -1, axis=0)], 1) for lp in loops])
     depth, parent = loop_hierarchy(loops)
-    return Section(Frame.from_plane((0, 0, 0), (0, 0, 1)), segs, loops, loop_depth=depth, loop_parent=parent)
+    return Section(Frame.from_plane((0, 0, 0), (0, 0, 1)), segs, loops, hierarchy=(depth, parent))
 
 
 def star(n=5, r1=10.0, r2=4.0, c=(0.3, 0.7)):

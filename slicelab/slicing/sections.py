@@ -49,8 +49,12 @@ class Section:
         Chains that could not be closed (open scans).
     joined_gaps : (j,) ndarray
         Gaps (mm) bridged to close open chains.
-    loop_depth, loop_parent : (L,) int ndarray
-        Nesting depth of each loop and its smallest enclosing loop (-1 if none).
+    hierarchy : (depth, parent) of (L,) int ndarray, optional
+        The loops' nesting when already known; otherwise found on first use
+        (`loop_depth`, `loop_parent`): a print plan's hundreds of layers never ask.
+
+    Properties ``loop_depth`` and ``loop_parent`` give the nesting depth of each loop and
+    its smallest enclosing loop (-1 if none).
     """
 
     frame: Frame
@@ -58,8 +62,21 @@ class Section:
     loops: list = field(default_factory=list)
     open_chains: list = field(default_factory=list)
     joined_gaps: np.ndarray = field(default_factory=lambda: np.zeros(0))
-    loop_depth: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
-    loop_parent: np.ndarray = field(default_factory=lambda: np.zeros(0, np.int64))
+    hierarchy: tuple | None = field(default=None, repr=False)
+
+    @cached_property
+    def _nesting(self) -> tuple:
+        return self.hierarchy if self.hierarchy is not None else loop_hierarchy(self.loops)
+
+    @property
+    def loop_depth(self) -> np.ndarray:
+        """Nesting depth of each loop (0 for outermost)."""
+        return self._nesting[0]
+
+    @property
+    def loop_parent(self) -> np.ndarray:
+        """Smallest enclosing loop of each loop, or -1."""
+        return self._nesting[1]
 
     def __repr__(self) -> str:
         return (f"Section({len(self.segments)} segments, {len(self.loops)} loops, "
@@ -218,9 +235,8 @@ def _assemble(frames: list[Frame], segments, start_id, end_id, seg_plane, max_ga
         if open_chains[k] and max_gap > 0:
             closed, open_chains[k], gaps = join_open_chains(open_chains[k], max_gap)
             loops[k] += closed
-        depth, parent = loop_hierarchy(loops[k])
         idx = order[cuts[k]:cuts[k + 1]]
-        out.append(Section(frame, segments[idx[nonzero[idx]]], loops[k], open_chains[k], gaps, depth, parent))
+        out.append(Section(frame, segments[idx[nonzero[idx]]], loops[k], open_chains[k], gaps))
     return out
 
 
