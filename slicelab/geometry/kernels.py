@@ -392,17 +392,13 @@ def _combine_words(op, wa, wb, wo, sa, sb, nw, ow):
     else:
         # One side held, the other uniform: the held pixels, or (full minus held) their complement.
         if sa >= 0:
-            x, flip = sa * nw, np.uint64(0)
-            for u in range(nw):
-                v = wa[x + u] ^ flip
-                wo[ow + u] = v
-                total += np.int64((v * ones) >> np.uint64(56))
+            src, x, flip = wa, sa * nw, np.uint64(0)
         else:
-            x, flip = sb * nw, ones if op == 1 else np.uint64(0)
-            for u in range(nw):
-                v = wb[x + u] ^ flip
-                wo[ow + u] = v
-                total += np.int64((v * ones) >> np.uint64(56))
+            src, x, flip = wb, sb * nw, ones if op == 1 else np.uint64(0)
+        for u in range(nw):
+            v = src[x + u] ^ flip
+            wo[ow + u] = v
+            total += np.int64((v * ones) >> np.uint64(56))
     return total
 
 
