@@ -376,9 +376,6 @@ def rasterize(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margin
     group = _groups(plo, phi)
     n_islands = int(group.max()) + 1
     boxes = np.empty((n_islands, 4), np.int64)
-    for g in range(n_islands):  # over islands, few
-        members = np.flatnonzero(group == g)
-        boxes[g, 1::-1], boxes[g, 3:1:-1] = plo[members].min(axis=0), phi[members].max(axis=0)
     # One tile for the whole layer, however many islands: each stage of a tile (distance field,
     # level sets, openings) has a fixed cost, and blocks far from every boundary cost nothing.
     c0, r0 = plo.min(axis=0)
@@ -386,8 +383,9 @@ def rasterize(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margin
     shape = (int(r1 - r0 + 1), int(c1 - c0 + 1))
     tile = raster_blocks(_edges(loops), int(r0), int(c0), shape, p, rule=rule, band=band, size=block)
     seg_lists = []
-    for g in range(n_islands):  # over islands: which of their edges bound material
+    for g in range(n_islands):  # over islands: their boxes, and which of their edges bound material
         members = np.flatnonzero(group == g)
+        boxes[g, 1::-1], boxes[g, 3:1:-1] = plo[members].min(axis=0), phi[members].max(axis=0)
         edges = _edges([loops[k] for k in members])
         sizes = np.array([len(loops[k]) for k in members], np.int64)
         from ..geometry.segment_kernels import loops_touch
