@@ -10,7 +10,12 @@ compared byte for byte, so a speed-up that changed the output says so. No refere
 `scripts/bench_slice.py` compares with PrusaSlicer. Cost: twice a `slicelab slice` per part and
 repeat.
 
-    python scripts/bench_revisions.py REV [--repeat 3] [--mesh FILE ...]
+``--defects K`` runs instead PrusaSlicer's test parts and the first K meshes (under 4 MB) of each
+kind in `../shared/meshes/defects`, with ``--repair``: a change that should not move the output is
+checked on real defective inputs too (a refusal counts as the same when both trees refuse with
+the same message).
+
+    python scripts/bench_revisions.py REV [--repeat 3] [--mesh FILE ...] [--defects K]
 """
 from __future__ import annotations
 
@@ -53,15 +58,25 @@ def slice_command(mesh: Path, out: Path, scale: float | None, support: bool) -> 
     return cmd + (["--support", "auto"] if support else [])
 
 
-def timed(cmd: list[str], tree: Path) -> float:
-    """Wall time of a command run with `tree`'s slicelab first on the path."""
+def timed(cmd: list[str], tree: Path, refusals: bool = False) -> tuple[float, str | None]:
+    """Wall time of a command run with `tree`'s slicelab first on the path, and its one-line error if it
+    refused the input (exit status 2, allowed with `refusals`)."""
     env = {k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"}
     env["PYTHONPATH"] = str(tree)
     t = time.perf_counter()
     r = subprocess.run(cmd, cwd=tree, env=env, capture_output=True, text=True)
-    if r.returncode:
+    if r.returncode and not (refusals and r.returncode == 2):
         raise SystemExit(f"{tree}: {' '.join(cmd[3:5])} failed:\n{r.stderr[-2000:]}")
-    return time.perf_counter() - t
+    return time.perf_counter() - t, (r.stderr.strip().splitlines() or [""])[-1] if r.returncode else None
+
+
+def defect_parts(k: int) -> list:
+    """PrusaSlicer's test parts and the first `k` meshes under 4 MB of each kind of defect."""
+    shared = ROOT.parent / "shared" / "meshes"
+    files = sorted((shared / "prusaslicer").glob("*.stl"))
+    for kind in sorted(d for d in (shared / "defects").glob("*") if d.is_dir()):
+        files += sorted(f for f in kind.rglob("*.stl") if f.stat().st_size < 4 << 20)[:k]
+    return [(f"{f.parent.name}/{f.stem}", f, None, False) for f in files]
 
 
 def main(argv=None) -> int:
@@ -69,8 +84,14 @@ def main(argv=None) -> int:
     ap.add_argument("rev", help="the revision to compare with (a commit, a tag, HEAD~3, ...)")
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--mesh", type=Path, action="append", help="a part to run instead of the set (repeatable)")
+    ap.add_argument("--defects", type=int, default=0, metavar="K",
+                    help="PrusaSlicer's test parts and K meshes of each kind of defect instead, with --repair")
     args = ap.parse_args(argv)
     parts = [(m.name, m, None, False) for m in args.mesh] if args.mesh else PARTS
+    if args.defects:
+        parts = defect_parts(args.defects)
+    extra = ["--repair"] if args.defects else []
+    tally = {"same": 0, "refused alike": 0, "DIFFERS": 0}
     work = Path(tempfile.mkdtemp(prefix="bench_rev_"))
     other = work / "tree"
     subprocess.run(["git", "worktree", "add", "--detach", str(other), args.rev], cwd=ROOT, check=True,
@@ -87,15 +108,23 @@ def main(argv=None) -> int:
                 continue
             runs = {name: [] for name in trees}
             outs = {name: work / f"{i}.gcode" for i, name in enumerate(trees)}
+            refused = {}
             for name, tree in trees.items():  # untimed: bytecode and caches, as a user's second run
-                timed(slice_command(mesh, outs[name], scale, support), tree)
+                outs[name].unlink(missing_ok=True)
+                refused[name] = timed(slice_command(mesh, outs[name], scale, support) + extra, tree, True)[1]
             for _ in range(args.repeat):
                 for name, tree in trees.items():
-                    runs[name].append(timed(slice_command(mesh, outs[name], scale, support), tree))
-            same = outs["this tree"].read_bytes() == outs[args.rev].read_bytes()
-            med = {name: statistics.median(ts) for name, ts in runs.items()}
-            print(f"{label:<16}" + "".join(f"{name}: {min(ts):6.2f} / {med[name]:6.2f}   " for name, ts in runs.items())
-                  + f"ratio {med['this tree'] / med[args.rev]:.2f}   G-code {'same' if same else 'DIFFERS'}")
+                    runs[name].append(timed(slice_command(mesh, outs[name], scale, support) + extra, tree, True)[0])
+            if any(refused.values()):
+                verdict = "refused alike" if refused["this tree"] == refused[args.rev] else "DIFFERS"
+            else:
+                verdict = "same" if outs["this tree"].read_bytes() == outs[args.rev].read_bytes() else "DIFFERS"
+            tally[verdict] += 1
+            med = {name: statistics.median(ts) if ts else float("nan") for name, ts in runs.items()}
+            print(f"{label:<26}" + "".join(f"{name}: {min(ts, default=float('nan')):6.2f} / {med[name]:6.2f}   "
+                                           for name, ts in runs.items())
+                  + f"ratio {med['this tree'] / med[args.rev]:.2f}   G-code {verdict}")
+        print("parts: " + ", ".join(f"{v} {k}" for k, v in tally.items()))
     finally:
         subprocess.run(["git", "worktree", "remove", "--force", str(other)], cwd=ROOT, capture_output=True)
         shutil.rmtree(work, ignore_errors=True)
