@@ -10,6 +10,7 @@
 ``geometry.contours``       marching squares, ring simplification, skeleton tracing
 ``geometry.spatial``        segments cut into pieces, exact nearest distances to segments
 ``geometry.blocks``         square blocks of a pixel grid: held near a boundary, packed with halos
+``geometry.graphs``         connected components of graphs, thinning pixel sets to skeletons
 ``geometry.kernels``        compiled loops of the layer hot paths (numba), loaded on first use
 ==========================  =====================================================
 """
@@ -17,6 +18,7 @@ from __future__ import annotations
 
 from .chains import Chains, chain_segments, join_open_chains
 from .blocks import EMPTY, FULL, BlockGrid, blocks_near
+from .graphs import GUO_HALL, graph_components, thin, thinning_table
 from .contours import crossed_cells, march, march_blocks, simplify_ring, skeleton_neighbours, trace_skeleton
 from .planes import NEXT_CORNER, Frame, crossing_edges, edge_points, plane_distances
 from .polygons import (
@@ -39,4 +41,4 @@ _SEGMENT_KERNELS = ("nearest_in_buckets", "band_distances", "cut_at_crossings", 
 __getattr__, __dir__ = attach(__name__, {**{name: "kernels" for name in _KERNELS},
                                          **{name: "segment_kernels" for name in _SEGMENT_KERNELS}}, globals())
 
-__all__ = ["Frame", "NEXT_CORNER", "crossing_edges", "edge_points", "plane_distances", "exact_ids", "weld", "edge_table", "shells", "EdgeCounts", "edge_counts", "manifold_summary", "Chains", "chain_segments", "join_open_chains", "signed_area", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons", "edge_cross", "winding_normals", "triangle_areas", "group_starts", "within_group", "expand_ranges", "crossed_cells", "march", "march_blocks", "simplify_ring", "skeleton_neighbours", "trace_skeleton", "split_segments", "join_collinear", "simplify_chains", "SegmentIndex", "EMPTY", "FULL", "BlockGrid", "blocks_near", *_KERNELS, *_SEGMENT_KERNELS]
+__all__ = ["Frame", "NEXT_CORNER", "crossing_edges", "edge_points", "plane_distances", "exact_ids", "weld", "edge_table", "shells", "EdgeCounts", "edge_counts", "manifold_summary", "Chains", "chain_segments", "join_open_chains", "signed_area", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons", "edge_cross", "winding_normals", "triangle_areas", "group_starts", "within_group", "expand_ranges", "graph_components", "thin", "thinning_table", "GUO_HALL", "crossed_cells", "march", "march_blocks", "simplify_ring", "skeleton_neighbours", "trace_skeleton", "split_segments", "join_collinear", "simplify_chains", "SegmentIndex", "EMPTY", "FULL", "BlockGrid", "blocks_near", *_KERNELS, *_SEGMENT_KERNELS]

@@ -335,8 +335,8 @@ class BlockGrid:
         (1, [[0, 1], [1, 0]])
         """
         import cv2
-        from scipy.sparse import coo_matrix
-        from scipy.sparse.csgraph import connected_components
+
+        from .graphs import graph_components
         n, b = len(self), self.size
         if n == 0:
             return np.zeros((0, b, b), np.int32), 0
@@ -376,8 +376,7 @@ class BlockGrid:
         e = e[:, (e[0] > 0) & (e[1] > 0)]
         e = np.unique(e[0] * count + e[1])
         e = np.stack([e // count, e % count])
-        graph = coo_matrix((np.ones(e.shape[1]), (e[0], e[1])), shape=(count, count))
-        k, glob = connected_components(graph, directed=False)
+        k, glob = graph_components(count, e[0], e[1])
         # Label 0 (background) is a component of its own: renumber so that it stays 0.
         order = np.full(k, -1, np.int64)
         order[glob[0]] = 0

@@ -20,8 +20,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.sparse import coo_matrix
-from scipy.sparse.csgraph import connected_components
+
+from .graphs import graph_components
 
 __all__ = ["Chains", "chain_segments", "join_open_chains"]
 
@@ -102,8 +102,7 @@ def chain_segments(start_key: np.ndarray, end_key: np.ndarray) -> Chains:
     prv = np.full(m, -1, dtype=np.int64)
     prv[nxt[has]] = np.flatnonzero(has)
     src = np.flatnonzero(has)
-    graph = coo_matrix((np.ones(len(src), np.int8), (src, nxt[has])), shape=(m, m))
-    n_comp, comp = connected_components(graph, directed=False)
+    n_comp, comp = graph_components(m, src, nxt[has])
 
     # A chain starts at its segment without predecessor; a cycle is cut at its lowest index.
     heads_open = np.flatnonzero(prv < 0)

@@ -356,8 +356,8 @@ def trace_skeleton(skel: np.ndarray) -> list[np.ndarray]:
     Parameters
     ----------
     skel : (h, w) bool ndarray, or (n, 2) int ndarray
-        A one-pixel-wide skeleton, e.g. from ``skimage.morphology.skeletonize``
-        (Zhang and Suen's thinning), or its pixels (row, col).
+        A one-pixel-wide skeleton, e.g. from `slicelab.geometry.graphs.thin`
+        (Guo and Hall's thinning), or its pixels (row, col).
 
     Returns
     -------
@@ -369,8 +369,8 @@ def trace_skeleton(skel: np.ndarray) -> list[np.ndarray]:
 
     References
     ----------
-    T. Y. Zhang, C. Y. Suen, "A fast parallel algorithm for thinning digital
-    patterns", Communications of the ACM 27(3), 1984 (the skeletons traced).
+    Z. Guo, R. W. Hall, "Parallel thinning with two-subiteration algorithms",
+    Communications of the ACM 32(3), 1989 (the skeletons traced).
 
     Examples
     --------

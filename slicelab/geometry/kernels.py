@@ -556,6 +556,7 @@ def warm() -> None:
     >>> status() in ("loaded", "not built", "off") or status().startswith(("stale", "unusable"))
     True
     """
+    from .graph_kernels import warm as warm_graphs
     from .offset_kernels import onto_offset
     from .segment_kernels import (band_distances, bucket_boxes, cut_at_crossings, douglas_peucker, loops_touch,
                                   mark_blocks_near, nearest_in_buckets, row_crossings, winding_at)
@@ -585,6 +586,7 @@ def warm() -> None:
     loops_touch(np.zeros((1, 2, 2)), np.array([0, 1], np.int64))
     onto_offset(np.zeros((1, 2)), np.array([0, 1], np.int64), 0.2, 0.01, 0.05, 0.6, 1.0, 0, 0, 1, 1,
                 np.zeros(2, np.int64), i64, np.zeros((1, 2, 2)))
+    warm_graphs()
     for dtype in (np.int32, np.uint8):
         winding_rows(i64, np.zeros(2, np.int64), np.zeros(2, np.int64), 0, 0, 1, i64, i64, 0,
                      np.zeros((1, 1, 1), dtype))

@@ -253,8 +253,7 @@ def shells(faces: np.ndarray, edges: dict | None = None) -> tuple[int, np.ndarra
     >>> shells(np.array([[0, 1, 2], [0, 2, 3], [4, 5, 6]]))[1].tolist()
     [0, 0, 1]
     """
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
+    from .graphs import graph_components
     f = np.asarray(faces, dtype=np.int64)
     n = len(f)
     if n == 0:
@@ -268,9 +267,7 @@ def shells(faces: np.ndarray, edges: dict | None = None) -> tuple[int, np.ndarra
         many = np.flatnonzero(counts[inverse] > 2)
         a = np.concatenate([a, first[inverse[many]] // 3])
         b = np.concatenate([b, many // 3])
-    graph = coo_matrix((np.ones(len(a), dtype=np.int8), (a, b)), shape=(n, n))
-    count, labels = connected_components(graph, directed=False)
-    return int(count), labels.astype(np.int64)
+    return graph_components(n, a, b)
 
 
 @dataclass(frozen=True)

@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..geometry.graphs import graph_components
 from ..geometry.topology import edge_table, shells, weld
 from .core import Mesh
 
@@ -133,11 +134,8 @@ def _snap(vertices: np.ndarray, faces: np.ndarray, tolerance: float) -> tuple[np
     pairs = near_vertex_pairs(vertices, tolerance)
     if len(pairs) == 0:
         return vertices, faces, 0
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
     n = len(vertices)
-    graph = coo_matrix((np.ones(len(pairs), np.int8), (pairs[:, 0], pairs[:, 1])), shape=(n, n))
-    _, label = connected_components(graph, directed=False)
+    _, label = graph_components(n, pairs[:, 0], pairs[:, 1])
     # The representative of each cluster is its lowest vertex id.
     rep = np.full(label.max() + 1, n, dtype=np.int64)
     np.minimum.at(rep, label, np.arange(n))
@@ -181,8 +179,6 @@ def _orient(faces: np.ndarray) -> tuple[np.ndarray, int]:
     holding both nodes of a facet is a non-orientable shell; otherwise each shell makes two mirror
     components, and the one holding its lowest facet as wound says which facets to reverse.
     """
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
     n = len(faces)
     et = edge_table(faces)
     two = np.flatnonzero(et["counts"] == 2)
@@ -191,8 +187,7 @@ def _orient(faces: np.ndarray) -> tuple[np.ndarray, int]:
     same = et["forward"][ea] == et["forward"][eb]  # walked the same way: the two disagree
     a = np.r_[fa, fa + n]
     b = np.r_[np.where(same, fb + n, fb), np.where(same, fb, fb + n)]
-    graph = coo_matrix((np.ones(len(a), np.int8), (a, b)), shape=(2 * n, 2 * n))
-    _, comp = connected_components(graph, directed=False)
+    _, comp = graph_components(2 * n, a, b)
     bad = comp[:n] == comp[n:]
     _, shell = shells(faces, et)
     # The reference component of each shell: the one its lowest facet has as wound.

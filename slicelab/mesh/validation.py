@@ -185,7 +185,6 @@ def check(mesh: Mesh) -> MeshReport:
     # the facets: numpy releases the GIL, so the two cores share the work.
     with ThreadPoolExecutor(max_workers=1) as pool:
         topo = pool.submit(_topology, t, default_tolerance(mesh))
-        import scipy.sparse.csgraph  # noqa: F401  (for `shells`, imported here while the weld runs)
         cross = edge_cross(t)
         double_area = np.sqrt(np.einsum("ij,ij->i", cross, cross))
         # Zero area up to rounding, relative to the facet's own size (its longest edge), not the

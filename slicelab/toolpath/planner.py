@@ -427,9 +427,7 @@ def _costliest_first(chunks: list, sections: list, s: PrintSettings) -> list:
 
 def _warm_imports() -> None:
     import cv2  # noqa: F401
-    import scipy.spatial  # noqa: F401
     import shapely  # noqa: F401
-    from skimage.morphology import skeletonize  # noqa: F401  (skimage loads it lazily, on first use)
 
     from ..geometry.kernels import warm
     from . import distance, infill, paths, patterns, perimeters, raster, simplify, skirt  # noqa: F401

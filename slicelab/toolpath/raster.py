@@ -293,11 +293,9 @@ def _groups(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     """Connected groups of boxes that overlap (transitively), numbered in the order of their
     first box.
 
-    Each box takes the smallest index among the boxes it overlaps, again until nothing changes
-    (as many rounds as the longest chain of overlaps, a few): for the handful of loops of a
-    layer this costs a few microseconds where building a sparse graph for SciPy cost a
-    millisecond. Long chains (more than 16 rounds) go to SciPy's connected components, whose
-    cost does not grow with them.
+    The boxes that overlap are found pairwise (a layer has a handful of loops) and grouped by
+    `slicelab.geometry.graphs.graph_components`, whose cost does not grow with the length of a
+    chain of overlaps.
 
     Examples
     --------
@@ -313,18 +311,9 @@ def _groups(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
         return np.zeros(n, np.int64)
     if n > 3000:  # pairwise test too big: one tile
         return np.zeros(n, np.int64)
+    from ..geometry.graphs import graph_components
     overlap = np.all((lo[:, None] <= hi[None]) & (lo[None] <= hi[:, None]), axis=2)
-    label = np.arange(n)
-    for _ in range(16):  # over rounds, few
-        lower = np.where(overlap, label[None, :], n).min(axis=1)
-        if np.array_equal(lower, label):
-            return np.unique(label, return_inverse=True)[1].astype(np.int64)
-        label = lower
-    from scipy.sparse import coo_matrix
-    from scipy.sparse.csgraph import connected_components
-    i, j = np.nonzero(overlap)
-    return connected_components(coo_matrix((np.ones(len(i)), (i, j)), shape=(n, n)), directed=False)[1].astype(
-        np.int64)
+    return graph_components(n, *np.nonzero(overlap))[1]
 
 
 def rasterize(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margin: int = 3,

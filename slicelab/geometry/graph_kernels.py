@@ -1,0 +1,136 @@
+"""Compiled loops over graphs and pixel sets: connected components by union-find, and thinning.
+
+Two small algorithms that every print plan and mesh check runs, compiled
+here so that a command never imports SciPy or scikit-image for them (their
+imports cost 0.2-0.25 s per command, more than PrusaSlicer takes to slice a
+small part; `scripts/bench_slice.py` prints that floor).
+
+- `label_components` labels the connected components of an undirected
+  graph given by its edge list, as ``scipy.sparse.csgraph.connected_components``
+  does (the same labels: components numbered in the order of their lowest node).
+- `thin_pixels` thins a binary image to a one-pixel skeleton by a
+  two-subiteration parallel algorithm driven by a table of the 256
+  neighbourhoods (`slicelab.geometry.graphs.GUO_HALL` is Guo and Hall's [2]_).
+
+See Also
+--------
+slicelab.geometry.graphs : the functions that call them and say what the results mean.
+
+References
+----------
+.. [1] R. E. Tarjan, "Efficiency of a good but not linear set union
+   algorithm", Journal of the ACM 22(2), 1975.
+.. [2] Z. Guo, R. W. Hall, "Parallel thinning with two-subiteration
+   algorithms", Communications of the ACM 32(3), 1989.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .compiled import njit
+
+__all__ = ["label_components", "thin_pixels", "warm"]
+
+
+@njit(cache=True, nogil=True)
+def _root(parent, x):
+    """The root of x's tree, halving the path on the way (each node then points to its grandparent)."""
+    while parent[x] != x:
+        parent[x] = parent[parent[x]]
+        x = parent[x]
+    return x
+
+
+@njit(cache=True, nogil=True)
+def label_components(n, a, b):
+    """Connected components of the undirected graph on nodes 0..n-1 with edges (a[k], b[k]).
+
+    Union-find [1]_, each tree rooted at its lowest node, so that one pass in
+    node order numbers the components in the order of their lowest node.
+    Every a[k], b[k] must lie in [0, n) (the caller checks).
+
+    Returns
+    -------
+    count : int
+    labels : (n,) int64 ndarray
+    """
+    parent = np.arange(n)
+    for k in range(len(a)):  # over edges
+        x = _root(parent, a[k])
+        y = _root(parent, b[k])
+        if x < y:
+            parent[y] = x
+        elif y < x:
+            parent[x] = y
+    labels = np.empty(n, np.int64)
+    count = 0
+    for v in range(n):  # a root comes before every other node of its tree
+        r = _root(parent, v)
+        if r == v:
+            labels[v] = count
+            count += 1
+        else:
+            labels[v] = labels[r]
+    return count, labels
+
+
+@njit(cache=True, nogil=True)
+def _code(image, r, c, h, w):
+    """The 8 neighbours of pixel (r, c) as bits: N, NE, E, SE, S, SW, W, NW from bit 0 (0 off the image)."""
+    code = 0
+    bit = 0
+    for dr, dc in ((-1, 0), (-1, 1), (0, 1), (1, 1), (1, 0), (1, -1), (0, -1), (-1, -1)):
+        i, j = r + dr, c + dc
+        if 0 <= i < h and 0 <= j < w and image[i, j]:
+            code |= 1 << bit
+        bit += 1
+    return code
+
+
+@njit(cache=True, nogil=True)
+def thin_pixels(image, table):
+    """Thin a 0/1 uint8 image in place to a one-pixel skeleton; returns the passes made.
+
+    Each iteration makes two subiterations; a subiteration s (1, 2) removes,
+    at once, every set pixel whose neighbourhood code (`_code`) has bit s of
+    ``table[code]`` set, judged on the image as it was when the subiteration
+    began. Iterations go on until one removes nothing. Only set pixels are
+    visited: the cost follows the pixels and the passes, not the image's size.
+    """
+    h, w = image.shape
+    rows, cols = np.nonzero(image)
+    alive = len(rows)
+    drop = np.empty(alive, np.bool_)
+    passes = 0
+    removed = True
+    while removed:
+        removed = False
+        for step in (1, 2):  # the two subiterations
+            passes += 1
+            hit = False
+            for k in range(alive):  # over the pixels still set
+                drop[k] = (table[_code(image, rows[k], cols[k], h, w)] & step) != 0
+                hit |= drop[k]
+            if not hit:
+                continue
+            removed = True
+            m = 0
+            for k in range(alive):  # remove the marked pixels, keep the rest in order
+                if drop[k]:
+                    image[rows[k], cols[k]] = 0
+                else:
+                    rows[m], cols[m] = rows[k], cols[k]
+                    m += 1
+            alive = m
+    return passes
+
+
+def warm() -> None:
+    """Call every kernel once with the types its callers pass (see `slicelab.geometry.kernels.warm`).
+
+    Examples
+    --------
+    >>> warm()
+    """
+    label_components(1, np.zeros(0, np.int64), np.zeros(0, np.int64))
+    thin_pixels(np.zeros((1, 1), np.uint8), np.zeros(256, np.uint8))
