@@ -1,7 +1,9 @@
 """The triangle mesh container shared by every stage.
 
 `Mesh` is deliberately small: the triangles, their normals from the vertex
-winding, the normals the file stored, and nothing cached. Each stage keeps its
+winding, the normals the file stored, and two things found on first use and
+kept, since the corners cannot change: the bounding box and the exact weld
+(which the mesh check and the slicer both read). Each stage keeps its
 own logic in its own module and takes a `Mesh` as plain data.
 """
 from __future__ import annotations
@@ -96,6 +98,28 @@ class Mesh:
         out = np.array([[flat[:, k].min() for k in range(3)], [flat[:, k].max() for k in range(3)]])
         out.setflags(write=False)
         return out
+
+    @cached_property
+    def welded(self) -> tuple[np.ndarray, np.ndarray]:
+        """The exact weld (`slicelab.geometry.topology.exact_ids`), made once: the vertex id of
+        every corner, (n, 3) int64, and the first corner (flat index) of each vertex, (v,) int64.
+
+        Corners are the same vertex only when their coordinates are bit for bit
+        equal (-0.0 and 0.0 alike). Both arrays are read-only.
+
+        Examples
+        --------
+        >>> m = Mesh.from_vertices_faces([[0, 0, 0], [1, 0, 0], [0, 1, 0], [1, 1, 0]], [[0, 1, 2], [1, 3, 2]])
+        >>> ids, first = m.welded
+        >>> len(first), bool(ids[0, 1] == ids[1, 0]), bool(ids[0, 2] == ids[1, 2])
+        (4, True, True)
+        """
+        from ..geometry.topology import exact_ids
+        ids, first = exact_ids(self.triangles.reshape(-1, 3))
+        ids = ids.reshape(-1, 3)
+        for a in (ids, first):
+            a.setflags(write=False)
+        return ids, first
 
     @classmethod
     def from_triangles(cls, triangles, file_normals=None) -> "Mesh":

@@ -10,7 +10,7 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from ..geometry.topology import edge_counts, edge_table, exact_ids, shells
+from ..geometry.topology import edge_counts, edge_table, shells
 from ..geometry.triangles import edge_cross
 from .core import Mesh
 from .repairs import default_tolerance, near_vertex_pairs
@@ -139,10 +139,10 @@ def _longest2_bound(t: np.ndarray) -> np.ndarray:
     return span
 
 
-def _topology(t: np.ndarray, tolerance: float) -> tuple[int, int, int, int, int, int]:
+def _topology(mesh: Mesh, tolerance: float) -> tuple[int, int, int, int, int, int]:
     """Welded vertices, open / non-manifold / misoriented edges, shells and near-coincident vertices."""
-    ids, corner_of_vertex = exact_ids(t.reshape(-1, 3))  # the weld, without gathering the vertices
-    faces = ids.reshape(-1, 3)
+    t = mesh.triangles
+    faces, corner_of_vertex = mesh.welded  # the weld, without gathering the vertices (kept for the slicer)
     et = edge_table(faces)
     e = edge_counts(faces, et)
     n_shells, _ = shells(faces, et)
@@ -184,7 +184,7 @@ def check(mesh: Mesh) -> MeshReport:
     # Welding and the edge table (sorting) run in a worker thread while this thread measures
     # the facets: numpy releases the GIL, so the two cores share the work.
     with ThreadPoolExecutor(max_workers=1) as pool:
-        topo = pool.submit(_topology, t, default_tolerance(mesh))
+        topo = pool.submit(_topology, mesh, default_tolerance(mesh))
         cross = edge_cross(t)
         double_area = np.sqrt(np.einsum("ij,ij->i", cross, cross))
         # Zero area up to rounding, relative to the facet's own size (its longest edge), not the

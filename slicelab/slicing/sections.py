@@ -169,11 +169,11 @@ class Section:
         }
 
 
-def _cut(corners3: np.ndarray, corners2: np.ndarray, dist: np.ndarray, plane: np.ndarray):
+def _cut(vertex: np.ndarray, corners2: np.ndarray, dist: np.ndarray, plane: np.ndarray):
     """Cut facet/plane pairs whose corners straddle the plane.
 
-    Parameters: 3-D corners (p, 3, 3) used for identity, plane-frame corners
-    (p, 3, 2), signed distances (p, 3), plane index per pair (p,). Every pair
+    Parameters: the exact vertex id of each corner (p, 3) (its identity), plane-frame
+    corners (p, 3, 2), signed distances (p, 3), plane index per pair (p,). Every pair
     must have a corner below (< 0) and one above (>= 0).
 
     Returns segments (s, 2, 2), start and end topological keys (s,), plane (s,).
@@ -189,18 +189,20 @@ def _cut(corners3: np.ndarray, corners2: np.ndarray, dist: np.ndarray, plane: np
     p0 = edge_points(corners2, dist, rows, b_start, a_start)
     p1 = edge_points(corners2, dist, rows, b_end, a_end)
 
-    # Key rows: [above xyz, below xyz, plane]; a point on an above corner in the plane is keyed
-    # by that corner twice, which no edge (two distinct corners) can match.
-    flat = corners3.reshape(-1, 3)
+    # Keys: (above vertex, below vertex, plane); a point on an above corner in the plane is keyed
+    # by that vertex twice, which no edge (two distinct vertices) can match. One integer per key
+    # when it fits (hashed as one column), else the three columns.
+    flat = vertex.reshape(-1)
+    n_vertices, n_planes = int(flat.max()) + 1 if len(flat) else 1, int(plane.max()) + 1 if len(plane) else 1
 
-    def key_rows(b, a):
-        k = np.empty((len(rows), 7))
-        k[:, 0:3] = flat[3 * rows + a]
-        k[:, 3:6] = flat[3 * rows + np.where(dist[rows, a] == 0, a, b)]
-        k[:, 6] = plane[rows]
-        return k
+    def keys(b, a):
+        above = flat[3 * rows + a]
+        other = flat[3 * rows + np.where(dist[rows, a] == 0, a, b)]
+        if n_vertices * n_vertices * n_planes < 2 ** 62:
+            return (above * n_vertices + other) * n_planes + plane[rows]
+        return np.stack([above, other, plane[rows]], axis=1)
 
-    ids, _ = exact_ids(np.concatenate([key_rows(b_start, a_start), key_rows(b_end, a_end)]))
+    ids, _ = exact_ids(np.concatenate([keys(b_start, a_start), keys(b_end, a_end)]))
     s = len(rows)
     # Segments that round to zero length (a corner a hair off the plane, two crossing edges
     # whose points round to that corner) are kept: chaining needs their keys. `_assemble`
@@ -216,27 +218,33 @@ def _assemble(frames: list[Frame], segments, start_id, end_id, seg_plane, max_ga
     starts = segments[:, 0]
     loops = [[] for _ in frames]
     open_chains = [[] for _ in frames]
-    chain_plane = seg_plane[chains.order[chains.bounds[:-1]]] if len(chains) else np.zeros(0, int)
-    for k in range(len(chains)):  # over chains, not segments
-        idx = chains.order[chains.bounds[k]:chains.bounds[k + 1]]
+    n_chains = len(chains)
+    walk = chains.order  # every segment, chain after chain, each in walking order
+    chain_of = np.repeat(np.arange(n_chains), np.diff(chains.bounds))
+    chain_plane = seg_plane[walk[chains.bounds[:-1]]] if n_chains else np.zeros(0, np.int64)
+    kept = nonzero[walk]
+    size = np.bincount(chain_of[kept], minlength=n_chains)  # segments of each chain that have a length
+    # The closed chains with three segments or more, all at once: their segments' starts, split by chain.
+    ring = chains.closed & (size >= 3)
+    pieces = np.split(starts[walk[kept & ring[chain_of]]], np.cumsum(size[ring])[:-1]) if ring.any() else []
+    for plane, pts in zip(chain_plane[ring].tolist(), pieces):  # over loops
+        loops[plane].append(pts)
+    for k in np.flatnonzero(~chains.closed & (size > 0)).tolist():  # over open chains (open scans only)
+        idx = walk[chains.bounds[k]:chains.bounds[k + 1]]
         last = segments[idx[-1], 1]
-        idx = idx[nonzero[idx]]
-        plane = int(chain_plane[k])
-        if chains.closed[k]:
-            if len(idx) >= 3:
-                loops[plane].append(starts[idx])
-        elif len(idx):
-            open_chains[plane].append(np.vstack([starts[idx], last]))
+        open_chains[int(chain_plane[k])].append(np.vstack([starts[idx[nonzero[idx]]], last]))
+    # Every plane's segments that have a length, in one gather: each Section takes its slice.
     order = np.argsort(seg_plane, kind="stable")
-    cuts = np.searchsorted(seg_plane[order], np.arange(len(frames) + 1))
+    order = order[nonzero[order]]
+    cuts = np.searchsorted(seg_plane[order], np.arange(len(frames) + 1)).tolist()
+    kept_segments = segments[order]
     out = []
     for k, frame in enumerate(frames):  # over planes
         gaps = np.zeros(0)
         if open_chains[k] and max_gap > 0:
             closed, open_chains[k], gaps = join_open_chains(open_chains[k], max_gap)
             loops[k] += closed
-        idx = order[cuts[k]:cuts[k + 1]]
-        out.append(Section(frame, segments[idx[nonzero[idx]]], loops[k], open_chains[k], gaps))
+        out.append(Section(frame, kept_segments[cuts[k]:cuts[k + 1]], loops[k], open_chains[k], gaps))
     return out
 
 
@@ -256,7 +264,8 @@ def section_from_distances(frame: Frame, triangles: np.ndarray, dist: np.ndarray
     """`section` from corner distances already computed (shared with `slicelab.split`)."""
     cross = _straddling(dist)
     c3 = triangles[cross]
-    seg, s_id, e_id, plane = _cut(c3, _frame_coords(frame, c3), dist[cross], np.zeros(len(cross), np.int64))
+    vertex = exact_ids(c3.reshape(-1, 3))[0].reshape(-1, 3)
+    seg, s_id, e_id, plane = _cut(vertex, _frame_coords(frame, c3), dist[cross], np.zeros(len(cross), np.int64))
     return _assemble([frame], seg, s_id, e_id, plane, max_gap)[0]
 
 
@@ -362,7 +371,7 @@ def slice_layers(mesh: Mesh, layer_height: float | None = None, *, heights=None,
     facet, plane = expand_ranges(lo, hi - lo)  # every (facet, plane) pair that may cross
     c3 = t[facet]
     dist = c3[..., 2] - planes[plane][:, None]
-    seg, s_id, e_id, seg_plane = _cut(c3, c3[..., :2], dist, plane)
+    seg, s_id, e_id, seg_plane = _cut(mesh.welded[0][facet], c3[..., :2], dist, plane)
     frames = [Frame(np.array([0.0, 0.0, zk]), np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]),
                     np.array([0.0, 0.0, 1.0])) for zk in planes]
     sections = _assemble(frames, seg, s_id, e_id, seg_plane, max_gap)
