@@ -251,8 +251,9 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
         where = ov.where if ov is not None and ov.where is not None else (np.nan, np.nan)
         held = (ov.overhang_area, ov.mid_air, len(ov.bridges), *where, ov.angle) if ov is not None \
             else (0, 0, 0, np.nan, np.nan, 0.0)
-        out.append((k, replace(lp, z=float(z_tops[k - first]), perimeters=None), areas, held,
-                    ov.unheld if ov is not None else ()))
+        lp = replace(lp, z=float(z_tops[k - first]), perimeters=None)
+        lp.extruded_area()  # summed here, on all cores: the sums travel with the layer (its cached state)
+        out.append((k, lp, areas, held, ov.unheld if ov is not None else ()))
     return out
 
 
