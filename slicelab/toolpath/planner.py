@@ -436,6 +436,18 @@ def _warm_imports() -> None:
 
 
 def _bar(total: int, progress: bool | None):
-    from tqdm import tqdm
+    """A tqdm bar over the layers, or, when there is none to show, a stand-in that does nothing
+    (so a command whose output is not a terminal does not import tqdm)."""
     disable = (not sys.stderr.isatty()) if progress is None else not progress
-    return tqdm(total=total, unit="layer", desc="planning", disable=disable, leave=False)
+    if disable:
+        return _NoBar()
+    from tqdm import tqdm
+    return tqdm(total=total, unit="layer", desc="planning", leave=False)
+
+
+class _NoBar:
+    def update(self, n: int = 1) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
