@@ -127,7 +127,7 @@ class SvgDrawing:
     def text(self, x: float, y: float, text: str, **attrs) -> None:
         """Text whose baseline starts (or is anchored) at (x, y)."""
         (qx, qy), = self._xy([[x, y]])
-        self._out.append(f'<text x="{_num(qx)}" y="{_num(qy)}"{_attrs(attrs)}>{escape(text)}</text>')
+        self._out.append(f'<text x="{_num(qx)}" y="{_num(qy)}"{_attrs(attrs)}>{_escape(text, quote=False)}</text>')
 
     def to_string(self) -> str:
         """The whole document."""
