@@ -6,7 +6,7 @@ import pytest
 
 from slicelab.geometry import contours
 from slicelab.geometry.blocks import EMPTY, FULL, BlockGrid
-from slicelab.geometry.kernels import closed_cycles
+from slicelab.geometry.march_kernels import closed_cycles
 from slicelab.geometry.segment_kernels import douglas_peucker
 from slicelab.geometry.spatial import SegmentIndex
 from slicelab.toolpath.simplify import simplify_paths
@@ -29,7 +29,7 @@ def test_march_blocks_gives_the_contours_of_the_whole_array(seed, b):
     v[0, :] = v[-1, :] = v[:, 0] = v[:, -1] = level - 10  # every contour closes inside
     g = BlockGrid(b, 2, -3, np.arange(6 * 7).reshape(6, 7))
     data = np.stack([v[i * b:(i + 1) * b, j * b:(j + 1) * b] for i in range(6) for j in range(7)])
-    ours = contours.march_blocks(g.mosaic(data, 1, np.float32(level - 10), np.float32(level + 10)), level, g)
+    ours = contours.march_blocks(data, level, g, level - 10, level + 10)
     theirs = [c[:-1] for c in find_contours(v.astype(np.float64), level, fully_connected="high")]
     assert len(ours) == len(theirs) > 20
     origin = np.array([2 * b, -3 * b])
@@ -53,9 +53,8 @@ def test_march_blocks_with_uniform_blocks_matches_the_assembled_grid():
     table[full] = FULL
     table[active] = np.arange(active.sum())
     g = BlockGrid(b, 0, 0, table)
-    image = g.mosaic(blocks[active], 1, np.float32(-2), np.float32(3))
     for level in (0.0, 0.5, 1.25):
-        ours = contours.march_blocks(image, level, g)
+        ours = contours.march_blocks(blocks[active], level, g, -2.0, 3.0)
         ref = contours.march(g.assemble(blocks[active], np.float32(-2), np.float32(3), 0, 0, (64, 64)), level)
         assert len(ours) == len(ref) == 1
         assert np.array_equal(ours[0], ref[0])
@@ -208,20 +207,20 @@ def test_simplify_chains_keeps_every_vertex_within_tolerance_and_runs_apart():
 
 
 def test_march_cells_asks_for_more_room_rather_than_losing_segments():
-    from slicelab.geometry.kernels import march_cells
+    from slicelab.geometry.march_kernels import march_cells
     b = 8
     v = _field(4)
     g = BlockGrid(b, 0, 0, np.arange(6 * 7).reshape(6, 7))
     data = np.stack([v[i * b:(i + 1) * b, j * b:(j + 1) * b] for i in range(6) for j in range(7)])
-    image = g.mosaic(data, 1, np.float32(-9), np.float32(9))
     rows0, cols0 = g.origins()
-    args = (image, float(np.median(v)), b, image.shape[1] // (b + 2), g.neighbours, rows0, cols0, -1, -1, 7 * b + 3)
-    start, end, points, complete = march_cells(*args, 100000)
+    args = (data, float(np.median(v)), g.neighbours, rows0, cols0, -1, -1, 7 * b + 3)
+    uniform = (np.float32(-9), np.float32(9))
+    start, end, points, complete = march_cells(*args, 100000, *uniform)
     assert complete and len(start) > 100
-    few = march_cells(*args, len(start) // 2)
+    few = march_cells(*args, len(start) // 2, *uniform)
     assert not few[3] and len(few[0]) == 0
     # The contours through the public entry point are the same whatever room it starts with.
-    assert sum(len(r) for r in contours.march_blocks(image, float(np.median(v)), g)) <= len(start)
+    assert sum(len(r) for r in contours.march_blocks(data, float(np.median(v)), g, -9.0, 9.0)) <= len(start)
 
 
 @pytest.mark.parametrize("seed", [0, 1])

@@ -211,8 +211,7 @@ def test_march_blocks_matches_march_across_seams():
         r0, c0 = grid.row0 * b - 1, grid.col0 * b - 1
         whole = grid.assemble(data, np.float32(-5), np.float32(5), r0, c0, (nr * b + 2, nc * b + 2))
         ref = sorted(tuple(q) for r in march(whole, 0.3) for q in np.round(r + [r0, c0], 9))
-        ours = sorted(tuple(q) for r in march_blocks(grid.mosaic(data, 1, np.float32(-5), np.float32(5)), 0.3, grid)
-                      for q in np.round(r, 9))
+        ours = sorted(tuple(q) for r in march_blocks(data, 0.3, grid, -5.0, 5.0) for q in np.round(r, 9))
         assert ours == ref
 
 

@@ -111,11 +111,12 @@ def march(values: np.ndarray, level: float) -> list[np.ndarray]:
     return _rings(*_cell_segments(corners, level, r, c, lambda dr, dc, vert: 2 * ((r + dr) * w + c + dc) + vert))
 
 
-def march_blocks(image: np.ndarray, level: float, grid: BlockGrid) -> list[np.ndarray]:
+def march_blocks(stack: np.ndarray, level: float, grid: BlockGrid, empty: float, full: float) -> list[np.ndarray]:
     """`march` over the blocks of a `BlockGrid`, chained across their seams: the contours of the whole grid.
 
-    Each block comes with a one-pixel halo (copies of its neighbours' pixels),
-    so every cell with a corner in it can be read from it. A cell is marched
+    A block's cells reach one pixel into its neighbours, read where they lie
+    (in the stack, or `empty` / `full` for a uniform block): no copy of the
+    blocks with halos is made. A cell is marched
     by one block only: the first active one among the blocks of its corners
     (upper left, upper right, lower left, lower right). A crossing is keyed
     by its pixel edge on the whole grid, so the segments of neighbouring
@@ -123,15 +124,17 @@ def march_blocks(image: np.ndarray, level: float, grid: BlockGrid) -> list[np.nd
     on the assembled grid, as long as every cell the level crosses has a
     corner in an active block (true when no two uniform blocks of different
     values touch). The cells are marched and chained by two compiled loops
-    (`slicelab.geometry.kernels.march_cells`, `closed_cycles`); rings come in
-    the order of their lowest points.
+    (`slicelab.geometry.march_kernels.march_cells`, `closed_cycles`); rings come
+    in the order of their lowest points.
 
     Parameters
     ----------
-    image : 2-D ndarray
-        The blocks with a halo of one pixel, side by side (`BlockGrid.mosaic`).
+    stack : (n, B, B) ndarray
+        The values of the grid's active blocks.
     level : float
     grid : BlockGrid
+    empty, full : float
+        The values of the pixels of empty and full blocks.
 
     Returns
     -------
@@ -146,27 +149,27 @@ def march_blocks(image: np.ndarray, level: float, grid: BlockGrid) -> list[np.nd
     --------
     >>> v = np.zeros((6, 6)); v[1:5, 1:5] = 1; v[2, 2] = 2   # blocks of 3 x 3 pixels
     >>> g = BlockGrid(3, 0, 0, np.arange(4).reshape(2, 2))
-    >>> image = g.mosaic(np.stack([v[i:i + 3, j:j + 3] for i in (0, 3) for j in (0, 3)]), 1, 0.0, 9.0)
-    >>> ours = march_blocks(image, 0.5, g)
+    >>> ours = march_blocks(np.stack([v[i:i + 3, j:j + 3] for i in (0, 3) for j in (0, 3)]), 0.5, g, 0.0, 9.0)
     >>> sorted(map(tuple, ours[0])) == sorted(map(tuple, march(v, 0.5)[0]))
     True
     """
-    from .kernels import closed_cycles, march_cells
-    flat = np.asarray(image)
-    if flat.dtype not in (np.float32, np.float64):
-        flat = flat.astype(np.float64)
+    from .march_kernels import closed_cycles, march_cells
+    data = np.ascontiguousarray(stack)
+    if data.dtype not in (np.float32, np.float64):
+        data = data.astype(np.float64)
     n, b = len(grid), grid.size
     if n == 0:
         return []
-    m = flat.shape[1] // (b + 2)  # blocks per row of the mosaic
+    if data.shape != (n, b, b):
+        raise ValueError(f"the stack must hold the grid's {n} blocks of {b} x {b} pixels, got {data.shape}")
     rows0, cols0 = grid.origins()
     # Crossings are keyed by their pixel edge on the whole grid (with a pixel to spare around
     # it), so the segments of neighbouring blocks chain as if the grid were one array.
     cap = max(1024, 4 * n * b)  # a contour crosses a block in about B cells: rarely exceeded
     while True:  # once, but for a block crossed many times over
-        start, end, points, complete = march_cells(flat, float(level), b, m, grid.neighbours, rows0, cols0,
+        start, end, points, complete = march_cells(data, float(level), grid.neighbours, rows0, cols0,
                                                    grid.row0 * b - 1, grid.col0 * b - 1, grid.table.shape[1] * b + 3,
-                                                   cap)
+                                                   cap, data.dtype.type(empty), data.dtype.type(full))
         if complete:
             break
         cap *= 4

@@ -1,17 +1,17 @@
-"""Compiled loops over pixels and blocks: marching squares, chaining, halos, block lookups and set operations.
+"""Compiled loops over pixels and blocks: halos, block lookups, set operations and winding numbers.
 
 A layer's toolpaths take a few dozen passes over the pixels held along its
 boundary. Written with numpy, each pass is several array calls whose fixed
 cost (tens of microseconds each) adds up to most of a layer's time; these
 loops do each pass in one compiled call instead (numba, compiled on first use
 and cached on disk beside this file). Each kernel is a plain loop over its
-input, linear in it; the modules that call them (`slicelab.geometry.contours`,
-`slicelab.geometry.blocks`, `slicelab.toolpath.masks`,
+input, linear in it; the modules that call them (`slicelab.geometry.blocks`,
+`slicelab.toolpath.masks`,
 `slicelab.toolpath.raster`) keep the interfaces and say what the results mean.
 
 See Also
 --------
-slicelab.geometry.contours.march_blocks : the contours these kernels trace.
+slicelab.geometry.march_kernels : marching squares over the blocks, and chaining.
 slicelab.geometry.blocks.BlockGrid.mosaic : the blocks and halos `fill_blocks` copies.
 slicelab.geometry.segment_kernels : the compiled loops over segments and points.
 
@@ -26,274 +26,11 @@ import numpy as np
 
 from .compiled import njit
 
-#: numba's intrinsics the kernels call, imported with numba only when it compiles them: LLVM's
-#: count-trailing-zeros finds the next crossed cell of a row of bits in one instruction.
-_NUMBA_GLOBALS = {"trailing_zeros": "numba.cpython.unsafe.numbers:trailing_zeros"}
-
-__all__ = ["march_cells", "closed_cycles", "fill_blocks", "sample_blocks", "combine_blocks", "winding_rows",
-           "warm"]
+__all__ = ["fill_blocks", "sample_blocks", "combine_blocks", "winding_rows", "warm"]
 
 # Block table values of uniform blocks (`slicelab.geometry.blocks`: EMPTY, FULL).
 _EMPTY = -1
 _FULL = -2
-
-
-@njit(cache=True, nogil=True)
-def _owned(r, c, b, nb, k, n):
-    """Whether block k marches the cell whose upper-left corner is its pixel (r, c), r, c >= -1.
-
-    A cell belongs to the first active block among those of its corners (upper left, upper
-    right, lower left, lower right), so that a cell on a seam is marched once.
-    """
-    if r >= 0 and c >= 0:
-        return True
-    if r < 0 and c < 0:
-        return nb[0, 0, k] >= n and nb[0, 1, k] >= n and nb[1, 0, k] >= n
-    if r < 0:
-        if nb[0, 1, k] < n:
-            return False
-        return not (c == b - 1 and nb[0, 2, k] < n)
-    return nb[1, 0, k] >= n
-
-
-@njit(cache=True, nogil=True)
-def march_cells(flat, level, b, m, nb, rows0, cols0, r_origin, c_origin, width, cap):
-    """Marching-squares segments of the blocks laid side by side in `flat`, keyed by world pixel edge.
-
-    Parameters
-    ----------
-    flat : 2-D float ndarray
-        The n blocks (B x B) with a one-pixel halo, `m` per row (`BlockGrid.mosaic`).
-    level : float
-    b, m : int
-        Block size and blocks per row of the mosaic.
-    nb : (3, 3, n) int ndarray
-        Stack index of each block's neighbours, >= n if not active (`BlockGrid.neighbours`).
-    rows0, cols0 : (n,) int ndarray
-        World pixel of each block's first pixel.
-    r_origin, c_origin, width : int
-        The world pixel edge from (R, C) to its right (down) neighbour is keyed
-        ``2 ((R - r_origin) width + C - c_origin)`` (plus 1).
-    cap : int
-        Room for this many segments: the buffers never move during the loop
-        (several times faster in numba than growing them).
-
-    Returns
-    -------
-    start, end : (s,) int64 ndarray
-        Keys of the pixel edges each segment starts and ends on.
-    points : (s, 2) float64 ndarray
-        Each segment's start (row, col), interpolated along its pixel edge.
-    complete : bool
-        False if there were more than `cap` segments (call again with more room).
-
-    Segments keep the high side on their left; saddles join the high corners.
-    """
-    n = nb.shape[2]
-    q = b + 2
-    start = np.empty(cap, np.int64)
-    end = np.empty(cap, np.int64)
-    points = np.empty((cap, 2), np.float64)
-    s = 0
-    # Which pixels of a row are at or above the level, as the bits of words of 64 columns: each
-    # pixel is compared once, and a few word operations find the crossed cells of two rows
-    # (a cell is crossed when its four corners disagree; most are not).
-    words = (b + 63) // 63  # cells j0 .. j0 + 62 of a row read columns j0 .. j0 + 63
-    one = np.uint64(1)
-    prev = np.zeros(words, np.uint64)
-    for k in range(n):
-        y0 = (k // m) * q
-        x0 = (k % m) * q
-        for w in range(words):
-            prev[w] = _row_bits(flat, y0, x0 + 63 * w, min(q - 63 * w, 64), level)
-        for i in range(b + 1):
-            for w in range(words):
-                j0 = 63 * w
-                up = prev[w]
-                lo = _row_bits(flat, y0 + i + 1, x0 + j0, min(q - j0, 64), level)
-                prev[w] = lo
-                v = up ^ lo
-                crossed = (up ^ (up >> one)) | (lo ^ (lo >> one)) | v | (v >> one)
-                crossed &= (one << np.uint64(min(b + 1 - j0, 63))) - one
-                while crossed:
-                    t = trailing_zeros(crossed)
-                    crossed &= crossed - one
-                    j = j0 + np.int64(t)
-                    r, c = i - 1, j - 1
-                    if (r < 0 or c < 0) and not _owned(r, c, b, nb, k, n):
-                        continue
-                    cu = (up >> t) & one == one
-                    cr = (up >> (t + one)) & one == one
-                    cl = (lo >> t) & one == one
-                    cw = (lo >> (t + one)) & one == one
-                    vu = np.float64(flat[y0 + i, x0 + j])
-                    vr = np.float64(flat[y0 + i, x0 + j + 1])
-                    vl = np.float64(flat[y0 + i + 1, x0 + j])
-                    vw = np.float64(flat[y0 + i + 1, x0 + j + 1])
-                    if s + 2 > cap:  # out of room: the caller asks again with more
-                        return start[:0], end[:0], points[:0], False
-                    R, C = rows0[k] + r, cols0[k] + c
-                    base = 2 * ((R - r_origin) * width + (C - c_origin))
-                    saddle = cu == cw and cr == cl
-                    # Straight-line code, no tuples indexed at run time (several times slower in numba).
-                    for h in range(2 if saddle else 1):
-                        if saddle:  # low upper left: left -> top, right -> bottom; else top -> right, bottom -> left
-                            if not cu:
-                                e, f = (3, 0) if h == 0 else (1, 2)
-                            else:
-                                e, f = (0, 1) if h == 0 else (2, 3)
-                        else:
-                            # Walk the border counter-clockwise (top, right, bottom, left edges): the
-                            # segment starts where the walk leaves the high side and ends where it comes back.
-                            e = _first(cu and not cr, cr and not cw, cw and not cl)
-                            f = _first(cr and not cu, cw and not cr, cl and not cw)
-                        start[s] = _edge_key(base, e, width)
-                        end[s] = _edge_key(base, f, width)
-                        # Along the start edge, from its first pixel to its second.
-                        if e == 0:
-                            points[s, 0], points[s, 1] = R, C + (level - vu) / (vr - vu)
-                        elif e == 1:
-                            points[s, 0], points[s, 1] = R + (level - vr) / (vw - vr), C + 1.0
-                        elif e == 2:
-                            points[s, 0], points[s, 1] = R + 1.0, C + (level - vl) / (vw - vl)
-                        else:
-                            points[s, 0], points[s, 1] = R + (level - vu) / (vl - vu), C
-                        s += 1
-    return start[:s], end[:s], points[:s], True
-
-
-@njit(cache=True, nogil=True)
-def _row_bits(flat, y, x, count, level):
-    """Bit t set where pixel (y, x + t) of `flat` is at or above the level, t < count <= 64."""
-    bits = np.uint64(0)
-    for t in range(count):
-        if flat[y, x + t] >= level:
-            bits |= np.uint64(1) << np.uint64(t)
-    return bits
-
-
-@njit(cache=True, nogil=True)
-def _edge_key(base, edge, width):
-    """Key of a cell's top (0), right (1), bottom (2) or left (3) pixel edge, from its top edge's key."""
-    if edge == 0:
-        return base
-    if edge == 1:
-        return base + 3
-    if edge == 2:
-        return base + 2 * width
-    return base + 1
-
-
-@njit(cache=True, nogil=True)
-def _first(top, right, bottom):
-    """The first true edge of top (0), right (1), bottom (2), else left (3)."""
-    return 0 if top else (1 if right else (2 if bottom else 3))
-
-
-@njit(cache=True, nogil=True)
-def _slot(key, bits):
-    """Fibonacci hashing: the top `bits` bits of key x 2^64 / phi. Keys of neighbouring pixel
-    edges (consecutive numbers) land far apart, so linear probing meets no long runs."""
-    return np.int64((np.uint64(key) * np.uint64(0x9E3779B97F4A7C15)) >> np.uint64(64 - bits))
-
-
-@njit(cache=True, nogil=True)
-def closed_cycles(start, end, points):
-    """The closed chains of segments (one's end key is the next one's start key), as rings.
-
-    Keys must be met at most once as a start and once as an end (marching
-    squares' pixel edges). Open chains are dropped. Each ring starts at its
-    lowest point (smallest row, then column) and rings come in the order of
-    those points.
-
-    Returns
-    -------
-    ring_points : (k, 2) float64 ndarray
-        The rings' start points, ring after ring.
-    bounds : (r + 1,) int64 ndarray
-        Ring j is ``ring_points[bounds[j]:bounds[j + 1]]``.
-    """
-    m = len(start)
-    # Which segment starts at each key: an open-addressing hash table, linear probing.
-    size, bits = 2, 1
-    while size < 2 * m + 2:
-        size *= 2
-        bits += 1
-    mask = size - 1
-    slot_key = np.full(size, -1, np.int64)
-    slot_seg = np.empty(size, np.int64)
-    for i in range(m):
-        h = _slot(start[i], bits)
-        while slot_key[h] != -1:
-            h = (h + 1) & mask
-        slot_key[h] = start[i]
-        slot_seg[h] = i
-    nxt = np.full(m, -1, np.int64)
-    for i in range(m):
-        h = _slot(end[i], bits)
-        while slot_key[h] != -1:
-            if slot_key[h] == end[i]:
-                nxt[i] = slot_seg[h]
-                break
-            h = (h + 1) & mask
-    state = np.zeros(m, np.int8)  # 0 new, 1 on this walk, 2 done
-    cycle = np.empty(m, np.int64)
-    bounds = [0]
-    firsts = []
-    taken = 0
-    for i in range(m):
-        if state[i]:
-            continue
-        j = i
-        length = 0
-        closed = False
-        while True:
-            state[j] = 1
-            cycle[taken + length] = j
-            length += 1
-            j = nxt[j]
-            if j < 0:
-                break
-            if j == i:
-                closed = True
-                break
-            if state[j]:
-                break
-        for u in range(taken, taken + length):
-            state[cycle[u]] = 2
-        if not closed:
-            continue
-        # The ring from its lowest point.
-        low = taken
-        for u in range(taken + 1, taken + length):  # scalars, not row views: several times faster
-            ar, ac = points[cycle[u], 0], points[cycle[u], 1]
-            zr, zc = points[cycle[low], 0], points[cycle[low], 1]
-            if ar < zr or (ar == zr and ac < zc):
-                low = u
-        firsts.append(low)
-        taken += length
-        bounds.append(taken)
-    nr = len(bounds) - 1
-    key = np.empty((nr, 2), np.float64)
-    for r in range(nr):
-        key[r] = points[cycle[firsts[r]]]
-    rank = np.argsort(key[:, 1], kind="mergesort")
-    rank = rank[np.argsort(key[rank, 0], kind="mergesort")]
-    out = np.empty((taken, 2), np.float64)
-    out_bounds = np.zeros(nr + 1, np.int64)
-    o = 0
-    for r in rank:
-        a, z = bounds[r], bounds[r + 1]
-        f = firsts[r]
-        for u in range(f, z):
-            out[o, 0], out[o, 1] = points[cycle[u], 0], points[cycle[u], 1]
-            o += 1
-        for u in range(a, f):
-            out[o, 0], out[o, 1] = points[cycle[u], 0], points[cycle[u], 1]
-            o += 1
-    for r in range(nr):
-        out_bounds[r + 1] = out_bounds[r] + bounds[rank[r] + 1] - bounds[rank[r]]
-    return out, out_bounds
 
 
 @njit(cache=True, nogil=True)
@@ -557,14 +294,12 @@ def warm() -> None:
     True
     """
     from .graph_kernels import warm as warm_graphs
+    from .march_kernels import warm as warm_march
     from .offset_kernels import onto_offset
     from .segment_kernels import (band_distances, bucket_boxes, cut_at_crossings, douglas_peucker, loops_touch,
                                   mark_blocks_near, nearest_in_buckets, row_crossings, winding_at)
     i64 = np.zeros(1, np.int64)
-    nb = np.full((3, 3, 1), 1, np.int64)
-    for dtype in (np.float32, np.float64):
-        march_cells(np.zeros((3, 3), dtype), 0.5, 1, 1, nb, i64, i64, -1, -1, 4, 16)
-    closed_cycles(np.zeros(0, np.int64), np.zeros(0, np.int64), np.zeros((0, 2)))
+    warm_march()
     table = np.zeros((1, 1), np.int64)
     for dtype in (np.uint8, np.float32):
         fill_blocks(np.zeros((1, 3, 1, 3), dtype), np.zeros((1, 1, 1), dtype), 1, dtype(0), dtype(1), table, 0, 0,

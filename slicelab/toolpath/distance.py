@@ -75,11 +75,6 @@ class DistanceField:
         return g.blocks.assemble(self.blocks, np.float32(self.outside), np.float32(self.deep), g.row0, g.col0,
                                  g.shape)
 
-    @cached_property
-    def halo1(self) -> np.ndarray:
-        """The field's blocks with a one-pixel halo (the marching squares' cells), made once."""
-        return self.mosaic(1)
-
     def mosaic(self, halo: int, values: np.ndarray | None = None) -> np.ndarray:
         """The field (or `values` on the same blocks) with a halo, as one image (`BlockGrid.mosaic`)."""
         v = self.blocks if values is None else values
@@ -290,9 +285,10 @@ def level_rings(field: DistanceField, level: float, *, tolerance: float, index: 
     min_area = 4 * p * p if min_area is None else min_area
     if not len(g):
         return []
-    stack = field.halo1 if values is None else field.mosaic(1, values)
+    stack = field.blocks if values is None else values
     rings = []
-    found = [np.stack([c[:, 1] * p, c[:, 0] * p], 1) for c in march_blocks(stack, level, g) if len(c) >= 3]
+    found = [np.stack([c[:, 1] * p, c[:, 0] * p], 1) for c in march_blocks(stack, level, g, field.outside, field.deep)
+             if len(c) >= 3]
     if values is None and index is not None and len(index) and found:
         found = _onto_offset(found, level, index, p, tolerance, field.deep)
     # Every ring of the level simplified in one compiled pass.

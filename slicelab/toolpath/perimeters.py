@@ -171,8 +171,7 @@ def _mask_rings(mask) -> list[np.ndarray]:
         # Uniform blocks beside blocks of another kind are held too: the contour may run along them.
         g, bits = mask.blocks.widen(mask.bits, False, True)
         r0 = c0 = 0
-        stack = g.mosaic(bits.astype(np.float32), 1, np.float32(0), np.float32(1))
-        rings = march_blocks(stack, 0.5, g)
+        rings = march_blocks(bits.astype(np.float32), 0.5, g, 0.0, 1.0)
     else:
         r0, c0 = mask.row0 - 1, mask.col0 - 1
         rings = march(np.pad(mask.mask, 1).astype(np.float32), 0.5)
