@@ -198,3 +198,23 @@ def test_rectilinear_leaves_out_stubs_at_corners():
     kept = pieces()
     assert kept.min() >= 0.25 * spacing
     assert abs(kept.sum() * spacing - 64.0) < 0.02 * 64.0
+
+
+def test_rectilinear_links_lines_along_the_boundary_into_zigzags():
+    # A 10 mm square at 1 mm spacing: its ten lines linked by nine 1 mm steps along the boundary,
+    # one zigzag of 109 mm; links longer than max_link are not taken.
+    from slicelab.toolpath.infill import rectilinear
+    square = np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float) + 0.25
+    one = rectilinear([Polygon(square, (), 0)], 1.0, 0.0)
+    assert len(one) == 1 and len(one[0]) == 20
+    assert float(np.hypot(*np.diff(one[0], axis=0).T).sum()) == pytest.approx(109.0, abs=1e-9)
+    apart = rectilinear([Polygon(square, (), 0)], 1.0, 0.0, max_link=0.5)
+    assert len(apart) == 10 and all(len(p) == 2 for p in apart)
+    # A square hole: the four lines through it are cut in two; 14 pieces (84 mm) in zigzags whose
+    # links are 1 mm steps along the outer boundary or the hole's.
+    hole = np.array([[3, 3], [3, 7], [7, 7], [7, 3]], float) + 0.25
+    paths = rectilinear([Polygon(square, (hole,), 0)], 1.0, 0.0)
+    pieces = sum(len(p) for p in paths) // 2
+    links = pieces - len(paths)
+    total = sum(float(np.hypot(*np.diff(p, axis=0).T).sum()) for p in paths)
+    assert pieces == 14 and total == pytest.approx(84.0 + links * 1.0, abs=1e-9)

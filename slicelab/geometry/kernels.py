@@ -296,8 +296,8 @@ def warm() -> None:
     from .graph_kernels import warm as warm_graphs
     from .march_kernels import warm as warm_march
     from .offset_kernels import onto_offset
-    from .segment_kernels import (band_distances, bucket_boxes, cut_at_crossings, douglas_peucker, loops_touch,
-                                  mark_blocks_near, nearest_in_buckets, row_crossings, winding_at)
+    from .segment_kernels import (band_distances, bucket_boxes, cut_at_crossings, douglas_peucker, link_zigzags,
+                                  loops_touch, mark_blocks_near, nearest_in_buckets, row_crossings, winding_at)
     i64 = np.zeros(1, np.int64)
     warm_march()
     table = np.zeros((1, 1), np.int64)
@@ -318,6 +318,9 @@ def warm() -> None:
     mark_blocks_near(np.zeros((1, 2, 2)), 0.1, 32, 2, 0, 0, np.zeros((1, 1), bool))
     row_crossings(np.zeros((1, 2, 2)), 0.1, 0, 1)
     bucket_boxes(np.zeros((1, 2)), np.ones((1, 2)), 1.0, -1)
+    one, f1 = np.zeros(1, np.int64), np.zeros(1)
+    link_zigzags(one, np.zeros(1, bool), one, one, one, one, one, one, one, f1, f1, np.ones(1), one, one, f1, f1,
+                 np.zeros((1, 2)), np.array([0, 1], np.int64), 1.0)
     loops_touch(np.zeros((1, 2, 2)), np.array([0, 1], np.int64))
     onto_offset(np.zeros((1, 2)), np.array([0, 1], np.int64), 0.2, 0.01, 0.05, 0.6, 1.0, 0, 0, 1, 1,
                 np.zeros(2, np.int64), i64, np.zeros((1, 2, 2)))

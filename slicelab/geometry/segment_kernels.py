@@ -27,7 +27,7 @@ import numpy as np
 from .compiled import njit
 
 __all__ = ["nearest_in_buckets", "band_distances", "loops_touch", "cut_at_crossings", "winding_at", "douglas_peucker",
-           "mark_blocks_near", "row_crossings", "bucket_boxes"]
+           "mark_blocks_near", "row_crossings", "bucket_boxes", "link_zigzags"]
 
 
 @njit(cache=True, nogil=True)
@@ -458,3 +458,111 @@ def bucket_boxes(lo, hi, cell, limit):
                 owner[fill[q]] = i
                 fill[q] += 1
     return origin, width, height, start, owner, True
+
+
+@njit(cache=True, nogil=True)
+def _put(out, m, x, y):
+    """Point (x, y) written at row m of `out`, grown (doubled) first when full; returns `out`."""
+    if m == len(out):
+        grown = np.empty((2 * len(out) + 16, 2))
+        grown[:m] = out[:m]
+        out = grown
+    out[m, 0], out[m, 1] = x, y
+    return out
+
+
+@njit(cache=True, nogil=True)
+def link_zigzags(order, used, nxt, prv, interval, other, line, ring, edge, t, arc, perimeter, start, end, xc, yc,
+                 ring_points, ring_start, max_link):
+    """Fill-line intervals linked into zigzags along the region's boundary, in the lines' frame.
+
+    A zigzag starts at the next unused interval of `order`, runs along it, and
+    goes on to the unused interval on the next line (the same step of lines as
+    the last link, after the first) that the nearer of the crossing's two
+    neighbours along its ring belongs to, following that ring's vertices, if
+    the stretch of boundary is at most `max_link` long; it stops when none is.
+
+    Parameters
+    ----------
+    order : (i,) int ndarray
+        The intervals in the order zigzags may start at.
+    used : (i,) bool ndarray
+        Intervals no zigzag may take (stubs); the others are marked as taken.
+    nxt, prv : (c,) int ndarray
+        Each crossing's next and previous crossing along its ring (-1: none).
+    interval, other : (c,) int ndarray
+        Each crossing's interval, and the crossing at that interval's other end.
+    line : (i,) int ndarray
+        Each interval's line.
+    ring, edge, t, arc : (c,) ndarrays
+        Each crossing's ring, the edge of the ring it lies on, its parameter along
+        that edge, and its distance along the ring from the ring's first vertex.
+    perimeter : (r,) float ndarray
+    start, end : (i,) int ndarray
+        Each interval's entering and leaving crossing.
+    xc, yc : (c,) float ndarray
+        The crossings.
+    ring_points, ring_start : float (v, 2), int (r + 1,) ndarrays
+        Ring r's vertices are ``ring_points[ring_start[r]:ring_start[r + 1]]``.
+    max_link : float
+
+    Returns
+    -------
+    points : (p, 2) float ndarray
+        The zigzags' vertices, one zigzag after another.
+    bounds : (z + 1,) int ndarray
+        Zigzag j is ``points[bounds[j]:bounds[j + 1]]``.
+    """
+    out = np.empty((4 * len(start) + 16, 2))
+    bounds = [0]
+    m = 0
+    for i0 in order:  # over intervals: where zigzags start
+        if used[i0]:
+            continue
+        used[i0] = True
+        out = _put(out, m, xc[start[i0]], yc[start[i0]])
+        out = _put(out, m + 1, xc[end[i0]], yc[end[i0]])
+        m += 2
+        cur, step = end[i0], 0
+        while True:  # over the intervals of this zigzag
+            best, found, best_nb, best_forward, best_dk = 0.0, False, -1, True, 0
+            for side in range(2):
+                forward = side == 0
+                nb = nxt[cur] if forward else prv[cur]
+                if nb < 0 or used[interval[nb]]:
+                    continue
+                dk = line[interval[nb]] - line[interval[cur]]
+                if abs(dk) != 1 or (step != 0 and dk != step):
+                    continue
+                r = ring[cur]
+                length = (arc[nb] - arc[cur]) % perimeter[r] if forward else (arc[cur] - arc[nb]) % perimeter[r]
+                if length <= max_link and (not found or length < best):
+                    best, found, best_nb, best_forward, best_dk = length, True, nb, forward, dk
+            if not found:
+                break
+            nb, r = best_nb, ring[cur]
+            # The ring's vertices strictly between the two crossings, walking the link's way.
+            a, n = ring_start[r], ring_start[r + 1] - ring_start[r]
+            e0, e1 = edge[cur], edge[nb]
+            if best_forward:
+                if not (e1 == e0 and t[nb] >= t[cur]):
+                    steps = (e1 - e0) % n
+                    for i in range(steps if steps else n):
+                        v = a + (e0 + 1 + i) % n
+                        out = _put(out, m, ring_points[v, 0], ring_points[v, 1])
+                        m += 1
+            elif not (e1 == e0 and t[nb] <= t[cur]):
+                steps = (e0 - e1) % n
+                for i in range(steps if steps else n):
+                    v = a + (e0 - i + n) % n
+                    out = _put(out, m, ring_points[v, 0], ring_points[v, 1])
+                    m += 1
+            used[interval[nb]] = True
+            far = other[nb]
+            out = _put(out, m, xc[nb], yc[nb])
+            out = _put(out, m + 1, xc[far], yc[far])
+            m += 2
+            cur, step = far, best_dk
+        bounds.append(m)
+    return out[:m].copy(), np.array(bounds, np.int64)
+

@@ -139,20 +139,6 @@ def fill_lines(polygons: list[Polygon], spacing: float, angle: float = 45.0) -> 
                      t[order], rot, float(spacing))
 
 
-def _ring_path(ring: np.ndarray, e0: int, t0: float, e1: int, t1: float, forward: bool) -> np.ndarray:
-    """Vertices of a ring strictly between point (e0, t0) and point (e1, t1), walking one way."""
-    n = len(ring)
-    if forward:
-        if e1 == e0 and t1 >= t0:
-            return ring[:0]
-        steps = (e1 - e0) % n or n
-        return ring[(e0 + 1 + np.arange(steps)) % n]
-    if e1 == e0 and t1 <= t0:
-        return ring[:0]
-    steps = (e0 - e1) % n or n
-    return ring[(e0 - np.arange(steps)) % n]
-
-
 def rectilinear(polygons: list[Polygon], spacing: float, angle: float = 45.0, *,
                 max_link: float | None = None, min_length: float | None = None) -> list[np.ndarray]:
     """Fill polygons with parallel lines linked into zigzags.
@@ -189,6 +175,7 @@ def rectilinear(polygons: list[Polygon], spacing: float, angle: float = 45.0, *,
     >>> len(paths), paths[0].round(6).tolist()[:4]
     (1, [[0.5, 1.0], [4.5, 1.0], [4.5, 2.0], [0.5, 2.0]])
     """
+    from ..geometry.segment_kernels import link_zigzags
     f = fill_lines(polygons, spacing, angle)
     if len(f.start) == 0:
         return []
@@ -217,45 +204,12 @@ def rectilinear(polygons: list[Polygon], spacing: float, angle: float = 45.0, *,
         if len(o) > 1:
             next_c[o] = np.concatenate((o[1:], o[:1]))
             prev_c[o] = np.concatenate((o[-1:], o[:-1]))
-    pts = np.stack([f.xc, f.yc], 1)
-
     # Stubs count as used: no path starts on one and no link goes to one.
-    used = (np.abs(f.xc[f.end] - f.xc[f.start]) < min_length).tolist()
-    paths = []
+    used = np.abs(f.xc[f.end] - f.xc[f.start]) < min_length
+    sizes = np.array([len(r) for r in f.rings])
+    # The intervals linked into zigzags by one compiled walk, starting at the lowest line.
+    pts, bounds = link_zigzags(np.lexsort((f.xc[f.start], f.line)), used, next_c, prev_c, interval_of, other,
+                               f.line, f.ring, f.edge, f.t, arc, perim, f.start, f.end, f.xc, f.yc,
+                               np.concatenate(f.rings), np.r_[0, np.cumsum(sizes)], float(max_link))
     inv = f.rot  # rows are the frame axes: frame -> world is p @ rot
-    # The walk reads single entries, many times: Python lists answer those several times faster
-    # than numpy arrays.
-    nxt, prv, itv, oth = next_c.tolist(), prev_c.tolist(), interval_of.tolist(), other.tolist()
-    line, ring_of, edge, tt = f.line.tolist(), f.ring.tolist(), f.edge.tolist(), f.t.tolist()
-    arcs, perims, starts, ends = arc.tolist(), perim.tolist(), f.start.tolist(), f.end.tolist()
-    xy = pts.tolist()
-    for i0 in np.lexsort((f.xc[f.start], f.line)).tolist():  # over intervals: start at the lowest line
-        if used[i0]:
-            continue
-        used[i0] = True
-        a, b = starts[i0], ends[i0]
-        path = [xy[a], xy[b]]
-        cur, step = b, 0
-        while True:  # over intervals of this zigzag
-            best = None
-            for nb, forward in ((nxt[cur], True), (prv[cur], False)):
-                if nb < 0 or used[itv[nb]]:
-                    continue
-                dk = line[itv[nb]] - line[itv[cur]]
-                if abs(dk) != 1 or (step and dk != step):
-                    continue
-                r = ring_of[cur]
-                length = (arcs[nb] - arcs[cur]) % perims[r] if forward else (arcs[cur] - arcs[nb]) % perims[r]
-                if length <= max_link and (best is None or length < best[0]):
-                    best = (length, nb, forward, dk)
-            if best is None:
-                break
-            _, nb, forward, dk = best
-            r = ring_of[cur]
-            path += _ring_path(f.rings[r], edge[cur], tt[cur], edge[nb], tt[nb], forward).tolist()
-            used[itv[nb]] = True
-            far = oth[nb]
-            path += [xy[nb], xy[far]]
-            cur, step = far, dk
-        paths.append(np.asarray(path) @ inv)
-    return paths
+    return [pts[a:b] @ inv for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist())]  # over zigzags
