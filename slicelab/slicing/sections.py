@@ -371,7 +371,13 @@ def slice_layers(mesh: Mesh, layer_height: float | None = None, *, heights=None,
     facet, plane = expand_ranges(lo, hi - lo)  # every (facet, plane) pair that may cross
     c3 = t[facet]
     dist = c3[..., 2] - planes[plane][:, None]
-    seg, s_id, e_id, seg_plane = _cut(mesh.welded[0][facet], c3[..., :2], dist, plane)
+    # The corners' vertex ids: the mesh's weld when it is known already (the mesh check makes it) or
+    # cheaper than welding the crossing facets' corners (most facets crossed), else those alone.
+    if "welded" in vars(mesh) or len(facet) >= len(t):
+        vertex = mesh.welded[0][facet]
+    else:
+        vertex = exact_ids(c3.reshape(-1, 3))[0].reshape(-1, 3)
+    seg, s_id, e_id, seg_plane = _cut(vertex, c3[..., :2], dist, plane)
     frames = [Frame(np.array([0.0, 0.0, zk]), np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]),
                     np.array([0.0, 0.0, 1.0])) for zk in planes]
     sections = _assemble(frames, seg, s_id, e_id, seg_plane, max_gap)
