@@ -400,3 +400,25 @@ def test_combine_blocks_is_the_set_operation_of_the_whole_masks(b):
             np.testing.assert_array_equal(held, np.arange(len(held)))
             sums = bits.reshape(-1, bb).sum(axis=1)
             assert np.all((sums > 0) & (sums < bb))
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_ring_hierarchy_matches_the_even_odd_test_ring_by_ring(seed):
+    # Nested and disjoint rings (circles of distinct radii, some clockwise): each ring's depth is
+    # the number of larger rings holding its first vertex (numpy's even-odd test, ring by ring),
+    # and its parent the smallest of them.
+    from slicelab.geometry.polygons import loop_hierarchy, points_in_ring, signed_area
+    rng = np.random.default_rng(seed)
+    t = np.linspace(0, 2 * np.pi, 40, endpoint=False)
+    loops = []
+    for _ in range(int(rng.integers(2, 30))):
+        c, r = rng.uniform(-20, 20, 2), rng.uniform(0.5, 15)
+        ring = c + r * np.c_[np.cos(t), np.sin(t)]
+        loops.append(ring[::-1] if rng.random() < 0.5 else ring)
+    areas = np.array([abs(signed_area(q)) for q in loops])
+    depth, parent = loop_hierarchy(loops)
+    for c in range(len(loops)):
+        holders = [a for a in range(len(loops)) if a != c and areas[a] >= areas[c]
+                   and points_in_ring(loops[c][:1], loops[a])[0]]
+        assert depth[c] == len(holders)
+        assert parent[c] == (min(holders, key=lambda a: areas[a]) if holders else -1)

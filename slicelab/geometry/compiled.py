@@ -44,7 +44,7 @@ __all__ = ["njit", "Kernel", "build", "status", "select", "arguments_key"]
 
 #: The modules whose kernels are built (in slicelab).
 MODULES = ("geometry.kernels", "geometry.march_kernels", "geometry.segment_kernels", "geometry.offset_kernels",
-           "geometry.graph_kernels", "export.text_kernels")
+           "geometry.graph_kernels", "geometry.polygon_kernels", "export.text_kernels")
 #: Name of the extension module `build` writes beside this file, and of its table.
 EXTENSION = "_aot_kernels"
 _HERE = Path(__file__).resolve().parent

@@ -295,6 +295,7 @@ def warm() -> None:
     """
     from .graph_kernels import warm as warm_graphs
     from .march_kernels import warm as warm_march
+    from .polygon_kernels import warm as warm_polygons
     from .offset_kernels import onto_offset
     from .segment_kernels import (band_distances, bucket_boxes, cut_at_crossings, douglas_peucker, link_zigzags,
                                   loops_touch, mark_blocks_near, nearest_in_buckets, row_crossings, winding_at)
@@ -325,6 +326,7 @@ def warm() -> None:
     onto_offset(np.zeros((1, 2)), np.array([0, 1], np.int64), 0.2, 0.01, 0.05, 0.6, 1.0, 0, 0, 1, 1,
                 np.zeros(2, np.int64), i64, np.zeros((1, 2, 2)))
     warm_graphs()
+    warm_polygons()
     for dtype in (np.int32, np.uint8):
         winding_rows(i64, np.zeros(2, np.int64), np.zeros(2, np.int64), 0, 0, 1, i64, i64, 0,
                      np.zeros((1, 1, 1), dtype))

@@ -57,27 +57,14 @@ def loop_hierarchy(loops: list[np.ndarray], areas: np.ndarray | None = None) -> 
     parent = np.full(L, -1, dtype=np.int64)
     if L < 2:
         return depth, parent
-    areas = np.abs(np.array([signed_area(p) for p in loops]) if areas is None else np.asarray(areas))
-    # Every loop's box in two passes over all the vertices.
-    sizes = np.array([len(p) for p in loops])
-    pts = np.concatenate(loops)
-    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
-    lo, hi = np.minimum.reduceat(pts, starts, axis=0), np.maximum.reduceat(pts, starts, axis=0)
-    # A loop's first vertex stands for it; the midpoint of its first edge would tie with a
-    # touching neighbour as often.
-    reps = np.array([p[0] for p in loops])
-    best = np.full(L, np.inf)
-    for a in np.argsort(-areas):  # over loops, not segments
-        cand = np.flatnonzero(np.all((reps >= lo[a]) & (reps <= hi[a]), axis=1))
-        cand = cand[(cand != a) & (areas[cand] <= areas[a])]
-        if len(cand) == 0:
-            continue
-        inside = cand[points_in_ring(reps[cand], loops[a])]
-        depth[inside] += 1
-        smaller = areas[a] < best[inside]
-        parent[inside[smaller]] = a
-        best[inside[smaller]] = areas[a]
-    return depth, parent
+    from .polygon_kernels import ring_hierarchy
+    areas = np.abs(np.array([signed_area(p) for p in loops]) if areas is None else np.asarray(areas, np.float64))
+    bounds = np.r_[0, np.cumsum([len(p) for p in loops])].astype(np.int64)
+    # One compiled pass: each loop, largest first, counts for the smaller loops whose first vertex
+    # (which stands for its loop: the midpoint of its first edge would tie with a touching
+    # neighbour as often) lies in its box and in it.
+    return ring_hierarchy(np.ascontiguousarray(np.concatenate(loops), np.float64), bounds,
+                          np.ascontiguousarray(areas), np.argsort(-areas))
 
 
 def points_in_ring(points: np.ndarray, ring: np.ndarray) -> np.ndarray:
