@@ -255,6 +255,9 @@ def bench_part(label: str, mesh: Path, scale: float | None, args, prusa: str | N
 
 #: What every `slicelab slice` imports before it reads a file: the floor of its wall time.
 FLOOR = "import numpy, cv2, shapely"
+#: Libraries a slice no longer imports, and what each would add to the floor (the reason it does not).
+AVOIDED = (("numpy-stl", "import stl.mesh"), ("SciPy's sparse graphs", "import scipy.sparse.csgraph"),
+           ("scikit-image's morphology (and SciPy's)", "from skimage.morphology import skeletonize"))
 
 
 def main(argv=None) -> int:
@@ -279,6 +282,9 @@ def main(argv=None) -> int:
     floor = statistics.median(run([sys.executable, "-c", FLOOR])[0] for _ in range(5))
     print(f"floor: a Python process importing the libraries a slice needs (numpy, OpenCV, shapely), "
           f"nothing else: {floor:.2f} s (median of 5)")
+    for name, statement in AVOIDED:  # (imports a slice does without: what each would cost it)
+        t = statistics.median(run([sys.executable, "-c", f"{FLOOR}; {statement}"])[0] for _ in range(5))
+        print(f"  not imported by a slice: {name}, which would add {t - floor:.2f} s (median of 5)")
     rows = []
     for label, mesh, scale, support in parts:
         if not mesh.exists():

@@ -2,8 +2,8 @@
 
 Both run as compiled loops (`slicelab.geometry.graph_kernels`), so that
 slicing, checking a mesh and planning a print import neither SciPy nor
-scikit-image: together their imports take about 0.25 s per command
-(``python -X importtime``), more than PrusaSlicer needs to slice a small part.
+scikit-image: their imports would add 0.2-0.3 s to every command
+(`scripts/bench_slice.py` prints it), more than PrusaSlicer needs to slice a small part.
 """
 from __future__ import annotations
 
