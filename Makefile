@@ -15,7 +15,7 @@ $(BIN)/python:
 # numba's disk cache, the fallback (slicelab.geometry.compiled). No run compiles them again.
 EXT     := _aot_kernels
 KERNELS := $(addprefix slicelab/geometry/,compiled.py kernels.py march_kernels.py segment_kernels.py offset_kernels.py \
-           graph_kernels.py polygon_kernels.py) \
+           graph_kernels.py polygon_kernels.py slice_kernels.py) \
            slicelab/export/text_kernels.py
 BUILD   := $(BIN)/python -c "from slicelab.geometry import compiled; print(compiled.build())"
 

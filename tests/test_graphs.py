@@ -147,3 +147,89 @@ def test_a_slice_imports_neither_scipy_nor_scikit_image(tmp_path):
         assert r.returncode == 0, r.stderr
         assert "loaded: []" in r.stdout
         assert out.read_bytes().count(b";TYPE:Gap fill" if part == wall else b";TYPE:Support material") > 0
+
+
+def _chains_by_list_ranking(start_key, end_key):
+    """The chains as a sort of the keys and list ranking by pointer jumping find them (numpy and
+    SciPy's components): the oracle of `chain_segments`' compiled walk."""
+    from scipy.sparse import coo_matrix
+    from scipy.sparse.csgraph import connected_components
+    m = len(start_key)
+    os_, oe = np.argsort(start_key, kind="stable"), np.argsort(end_key, kind="stable")
+    ss, se = start_key[os_], end_key[oe]
+    first_s = np.searchsorted(ss, se, side="left")
+    count_s = np.searchsorted(ss, se, side="right") - first_s
+    rank = np.arange(m) - np.searchsorted(se, se, side="left")
+    ok = rank < count_s
+    nxt = np.full(m, -1)
+    nxt[oe[ok]] = os_[first_s[ok] + rank[ok]]  # the k-th arrival at a key takes its k-th departure
+    has = nxt >= 0
+    prv = np.full(m, -1)
+    prv[nxt[has]] = np.flatnonzero(has)
+    src = np.flatnonzero(has)
+    n_comp, comp = connected_components(coo_matrix((np.ones(len(src)), (src, nxt[has])), shape=(m, m)),
+                                        directed=False)
+    is_open = np.zeros(n_comp, bool)
+    is_open[comp[prv < 0]] = True
+    lowest = np.full(n_comp, m)
+    np.minimum.at(lowest, comp, np.arange(m))
+    tail = nxt.copy()
+    tail[prv[lowest[~is_open]]] = -1  # each cycle cut before its lowest segment
+    dist = (tail >= 0).astype(np.int64)
+    jump = tail.copy()
+    active = np.flatnonzero(jump >= 0)
+    while len(active):  # list ranking: each segment's distance to its chain's end
+        j = jump[active]
+        dist[active] += dist[j]
+        jump[active] = jump[j]
+        active = active[jump[active] >= 0]
+    counts = np.bincount(comp, minlength=n_comp)
+    bounds = np.concatenate([[0], np.cumsum(counts)])
+    order = np.empty(m, np.int64)
+    order[bounds[comp] + counts[comp] - 1 - dist] = np.arange(m)
+    return order, bounds, ~is_open
+
+
+@pytest.mark.parametrize("seed", range(8))
+def test_chains_are_list_rankings(seed):
+    # Loops, open chains, keys met several times (an in-plane vertex touched twice), negative and
+    # huge keys: the compiled walk chains them as the sort and list ranking do, chain for chain.
+    from slicelab.geometry import chain_segments
+    rng = np.random.default_rng(seed)
+    n_loops = int(rng.integers(0, 30))
+    starts, ends = [], []
+    base = 0
+    for _ in range(n_loops):  # rings of keys, some repeated, some broken open
+        k = int(rng.integers(1, 40))
+        keys = base + rng.integers(0, max(1, k // (1 + seed % 3)), k)
+        base += k
+        starts += keys.tolist()
+        nxt = np.roll(keys, -1)
+        if rng.random() < 0.3:
+            nxt[-1] = -base - 7  # the chain ends on a key no segment starts at
+        ends += nxt.tolist()
+    perm = rng.permutation(len(starts))
+    scale = [1, 2 ** 40 + 3, -1][seed % 3]
+    s = np.array(starts, np.int64)[perm] * scale
+    e = np.array(ends, np.int64)[perm] * scale
+    c = chain_segments(s, e)
+    order, bounds, closed = _chains_by_list_ranking(s, e)
+    assert c.order.tolist() == order.tolist()
+    assert c.bounds.tolist() == bounds.tolist()
+    assert c.closed.tolist() == closed.tolist()
+    walk = [c.order[a:b] for a, b in zip(c.bounds[:-1], c.bounds[1:])]  # each step ends where the next starts
+    assert all((e[w[:-1]] == s[w[1:]]).all() for w in walk)
+    assert all(e[w[-1]] == s[w[0]] for w, shut in zip(walk, c.closed) if shut)
+
+
+def test_chains_of_nothing_and_of_a_long_ring():
+    from slicelab.geometry import chain_segments
+    c = chain_segments(np.zeros(0, np.int64), np.zeros(0, np.int64))
+    assert c.order.tolist() == [] and c.bounds.tolist() == [0] and len(c) == 0
+    n = 200_000
+    keys = np.random.default_rng(1).permutation(n)  # one ring through every key, segments shuffled
+    c = chain_segments(keys, np.roll(keys, -1))
+    assert len(c) == 1 and c.closed.tolist() == [True]
+    assert c.order[0] == 0 and sorted(c.order.tolist()) == list(range(n))
+    with pytest.raises(ValueError, match="same length"):
+        chain_segments(np.zeros(2, np.int64), np.zeros(3, np.int64))

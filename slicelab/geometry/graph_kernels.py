@@ -8,6 +8,10 @@ small part; `scripts/bench_slice.py` prints that floor).
 - `label_components` labels the connected components of an undirected
   graph given by its edge list, as ``scipy.sparse.csgraph.connected_components``
   does (the same labels: components numbered in the order of their lowest node).
+- `chain_keys` chains segments whose end key is another's start key into
+  paths and cycles, walking each from its head: the list ranking of
+  `slicelab.geometry.chain_segments` as one pass over the segments, the keys
+  matched in a hash table instead of by sorting.
 - `thin_pixels` thins a binary image to a one-pixel skeleton by a
   two-subiteration parallel algorithm driven by a table of the 256
   neighbourhoods (`slicelab.geometry.graphs.GUO_HALL` is Guo and Hall's [2]_).
@@ -29,7 +33,7 @@ import numpy as np
 
 from .compiled import njit
 
-__all__ = ["label_components", "thin_pixels", "warm"]
+__all__ = ["label_components", "chain_keys", "thin_pixels", "warm"]
 
 
 @njit(cache=True, nogil=True)
@@ -72,6 +76,87 @@ def label_components(n, a, b):
         else:
             labels[v] = labels[r]
     return count, labels
+
+
+@njit(cache=True, nogil=True)
+def chain_keys(start_key, end_key):
+    """Chain segments: segment i goes on to a segment that starts where it ends (keys equal).
+
+    Where several segments start at one key, the k-th segment (in index order) that
+    ends there goes on to the k-th that starts there. The chains are numbered in the
+    order of their lowest segment; an open chain starts at its segment that nothing
+    leads to, a cycle at its lowest segment.
+
+    Parameters
+    ----------
+    start_key, end_key : (m,) int64 ndarrays
+
+    Returns
+    -------
+    order : (m,) int64 ndarray
+        Segment indices, chain after chain, each chain in walking order.
+    bounds : (c + 1,) int64 ndarray
+        Chain k is ``order[bounds[k]:bounds[k + 1]]``.
+    closed : (c,) bool ndarray
+    """
+    m = len(start_key)
+    size, bits = 4, 2
+    while size < 2 * m:  # a table at most half full
+        size *= 2
+        bits += 1
+    shift = np.uint64(64 - bits)
+    mult = np.uint64(0x9E3779B97F4A7C15)  # Fibonacci hashing: the key's high bits, well mixed
+    mask = size - 1
+    slot_key = np.empty(size, np.int64)
+    used = np.zeros(size, np.bool_)
+    first = np.full(size, -1, np.int64)  # each slot's segments starting there, lowest first
+    after = np.full(m, -1, np.int64)
+    for i in range(m - 1, -1, -1):  # over segments, highest first: each list comes out ascending
+        key = start_key[i]
+        h = np.int64((np.uint64(key) * mult) >> shift)
+        while used[h] and slot_key[h] != key:
+            h = (h + 1) & mask
+        used[h] = True
+        slot_key[h] = key
+        after[i] = first[h]
+        first[h] = i
+    nxt = np.full(m, -1, np.int64)
+    prv = np.full(m, -1, np.int64)
+    for i in range(m):  # over segments in order: the k-th arrival takes the k-th departure
+        key = end_key[i]
+        h = np.int64((np.uint64(key) * mult) >> shift)
+        while used[h] and slot_key[h] != key:
+            h = (h + 1) & mask
+        if used[h] and first[h] >= 0:
+            j = first[h]
+            first[h] = after[j]
+            nxt[i] = j
+            prv[j] = i
+    order = np.empty(m, np.int64)
+    bounds = np.empty(m + 1, np.int64)
+    closed = np.empty(m, np.bool_)
+    seen = np.zeros(m, np.bool_)
+    n = c = 0
+    bounds[0] = 0
+    for v in range(m):  # the lowest segment of each chain comes first
+        if seen[v]:
+            continue
+        head = v
+        while prv[head] >= 0 and prv[head] != v:  # back to the head of an open chain, or round a cycle
+            head = prv[head]
+        cycle = prv[head] == v
+        if cycle:
+            head = v
+        k = head
+        while k >= 0 and not seen[k]:
+            seen[k] = True
+            order[n] = k
+            n += 1
+            k = nxt[k]
+        closed[c] = cycle
+        c += 1
+        bounds[c] = n
+    return order, bounds[:c + 1], closed[:c]
 
 
 @njit(cache=True, nogil=True)
@@ -133,4 +218,5 @@ def warm() -> None:
     >>> warm()
     """
     label_components(1, np.zeros(0, np.int64), np.zeros(0, np.int64))
+    chain_keys(np.zeros(0, np.int64), np.zeros(0, np.int64))
     thin_pixels(np.zeros((1, 1), np.uint8), np.zeros(256, np.uint8))

@@ -26,7 +26,7 @@ from ..geometry.planes import (
     edge_points,
     plane_distances,
 )
-from ..geometry.ragged import expand_ranges
+from ..geometry.slice_kernels import cut_planes
 from ..geometry.polygons import Polygon, build_polygons, loop_hierarchy, signed_area
 from ..geometry.topology import exact_ids
 from ..mesh.core import Mesh
@@ -210,6 +210,18 @@ def _cut(vertex: np.ndarray, corners2: np.ndarray, dist: np.ndarray, plane: np.n
     return np.stack([p0, p1], axis=1), ids[:s], ids[s:], plane[rows]
 
 
+def _end_ids(ends: np.ndarray, plane: np.ndarray, n_vertices: int, n_planes: int):
+    """The start and end keys of segments from their ends' (above, other) vertex ids
+    (`slicelab.geometry.slice_kernels.cut_planes`): equal where `_cut`'s are equal."""
+    if n_vertices * n_vertices * n_planes < 2 ** 62:  # one integer per key (the chaining hashes them)
+        keys = (ends[:, 0::2] * n_vertices + ends[:, 1::2]) * n_planes + plane[:, None]
+        return keys[:, 0].copy(), keys[:, 1].copy()
+    ids, _ = exact_ids(np.concatenate([np.stack([ends[:, 0], ends[:, 1], plane], axis=1),
+                                       np.stack([ends[:, 2], ends[:, 3], plane], axis=1)]))
+    s = len(ends)
+    return ids[:s], ids[s:]
+
+
 def _assemble(frames: list[Frame], segments, start_id, end_id, seg_plane, max_gap: float) -> list[Section]:
     """Chain the segments of every plane at once (keys never match across planes) and build
     one Section per frame."""
@@ -329,8 +341,9 @@ def slice_layers(mesh: Mesh, layer_height: float | None = None, *, heights=None,
     """Horizontal sections of a mesh at many heights, in one vectorised pass.
 
     Each facet finds the planes between its lowest and highest corner by
-    binary search; facet/plane pairs are expanded with ``np.repeat``, so the
-    cost grows with facets + segments, not facets x planes.
+    binary search, and one compiled pass cuts every facet/plane pair
+    (`slicelab.geometry.slice_kernels.cut_planes`, the same points as `section`'s),
+    so the cost grows with facets + segments, not facets x planes.
 
     Parameters
     ----------
@@ -368,16 +381,17 @@ def slice_layers(mesh: Mesh, layer_height: float | None = None, *, heights=None,
     planes, back = np.unique(z, return_inverse=True)
     lo = np.searchsorted(planes, zmin, side="right")  # first plane above each facet's lowest corner
     hi = np.searchsorted(planes, zmax, side="right")  # planes at or below its highest corner
-    facet, plane = expand_ranges(lo, hi - lo)  # every (facet, plane) pair that may cross
-    c3 = t[facet]
-    dist = c3[..., 2] - planes[plane][:, None]
     # The corners' vertex ids: the mesh's weld when it is known already (the mesh check makes it) or
     # cheaper than welding the crossing facets' corners (most facets crossed), else those alone.
-    if "welded" in vars(mesh) or len(facet) >= len(t):
-        vertex = mesh.welded[0][facet]
+    if "welded" in vars(mesh) or int((hi - lo).sum()) >= len(t):
+        vertex = mesh.welded[0]
     else:
-        vertex = exact_ids(c3.reshape(-1, 3))[0].reshape(-1, 3)
-    seg, s_id, e_id, seg_plane = _cut(vertex, c3[..., :2], dist, plane)
+        crossed = np.flatnonzero(hi > lo)
+        t, lo, hi = t[crossed], lo[crossed], hi[crossed]
+        vertex = exact_ids(t.reshape(-1, 3))[0].reshape(-1, 3)
+    # Every (facet, plane) pair cut in one compiled pass, facet after facet, as `_cut` would.
+    seg, ends, seg_plane = cut_planes(t, vertex, planes, lo.astype(np.int64), hi.astype(np.int64))
+    s_id, e_id = _end_ids(ends, seg_plane, int(vertex.max()) + 1 if vertex.size else 1, len(planes))
     frames = [Frame(np.array([0.0, 0.0, zk]), np.array([1.0, 0.0, 0.0]), np.array([0.0, 1.0, 0.0]),
                     np.array([0.0, 0.0, 1.0])) for zk in planes]
     sections = _assemble(frames, seg, s_id, e_id, seg_plane, max_gap)
