@@ -479,3 +479,73 @@ def test_gcode_formatted_by_a_pool_is_the_serial_file(tmp_path):
     t1, t2 = write_gcode(p, one, workers=1), write_gcode(p, two, workers=2)
     assert one.read_bytes() == two.read_bytes()
     assert t1["seconds"] == t2["seconds"] and t1["filament"] == t2["filament"]
+
+
+def _python_written(p, path, monkeypatch):
+    """The plan written with every layer through the Python writer (the compiled one turned away)."""
+    import slicelab.export.gcode as gcode
+    with monkeypatch.context() as m:
+        m.setattr(gcode._LayerKernel, "of", classmethod(lambda cls, *args: None))
+        return write_gcode(p, path, workers=1)
+
+
+@pytest.mark.parametrize("case", ["cube", "bridge", "slowed"])
+def test_compiled_writer_writes_the_python_bytes(tmp_path, monkeypatch, case, data_dir):
+    # The compiled writer and the Python writer, read back from disk: the same bytes (travels,
+    # retractions and lifts, bridges and their fan, skirt and brim, small perimeters, layers slowed
+    # for their minimum time), the same time and filament.
+    if case == "cube":
+        s = PrintSettings(pixel_size=0.1, layer_height=0.3, skirt_loops=2, brim_width=1.2, z_lift=0.4)
+        p = plan(cube_with_hole(20.0, 5.0, 32), s, workers=1)
+    elif case == "bridge":
+        p = plan(slicelab.load(data_dir / "bridge.stl"), PrintSettings(layer_height=0.3, pixel_size=0.15), workers=1)
+        assert any("bridge" in lp.kind for lp in p.layers)
+    else:
+        s = PrintSettings(**FAST, min_layer_time=8, min_print_speed=2, fan_below_layer_time=30)
+        p = plan(box((0, 0, 0), (6, 6, 2.4)), s, workers=1)
+    import slicelab.export.gcode as gcode
+    runs = []
+    run = gcode._LayerKernel.run
+    monkeypatch.setattr(gcode._LayerKernel, "run", lambda self, *a: runs.append(a) or run(self, *a))
+    fast, slow = tmp_path / "compiled.gcode", tmp_path / "python.gcode"
+    t1 = write_gcode(p, fast, workers=1)
+    assert len(runs) >= len(p.layers) - 1  # every layer with paths went through the compiled writer
+    if case == "slowed":
+        assert any(factor < 1 for factor, _ in runs)
+    t2 = _python_written(p, slow, monkeypatch)
+    assert fast.read_bytes() == slow.read_bytes()
+    assert t1["seconds"] == t2["seconds"] and t1["filament"] == t2["filament"]
+    assert t1["layer_seconds"] == t2["layer_seconds"]
+
+
+def test_compiled_writer_leaves_what_it_cannot_write_to_python():
+    # A coordinate beyond what it formats (or not finite) leaves the layer to Python's writer.
+    from slicelab.export.gcode import _BRIDGE, _PERIMETER, _WORD_AT, _WORD_BYTES
+    from slicelab.export.text_kernels import layer_moves
+    f = np.frombuffer(b"9000", np.uint8).copy()
+    for bad in (1e20, np.nan, np.inf):
+        xy = np.array([[0.0, 0.0], [bad, 1.0]])
+        out, size, _, _ = layer_moves(xy, np.array([2]), np.array([4]), np.full(2, 0.4), np.r_[0.2, 0.2, 0.05,
+                                      np.zeros(14)], np.full(len(_PERIMETER), 50.0), _PERIMETER, _BRIDGE,
+                                      _WORD_BYTES, _WORD_AT, f, f, np.zeros(3), np.zeros(3), True)
+        assert size == -1
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_compiled_stream_time_is_move_times_summed(seed):
+    # Random streams (corners, straight runs, z moves, retractions and primes, moves of no length,
+    # more than 128 moves: numpy's pairwise sum): the compiled time is numpy's, bit for bit.
+    from slicelab.export.text_kernels import stream_seconds
+    rng = np.random.default_rng(seed)
+    n = int(rng.integers(1, 3000))
+    rows = np.c_[np.cumsum(rng.normal(0, 3, (n, 2)), axis=0), np.repeat(rng.integers(1, 4, n), 1) * 0.2,
+                 rng.exponential(0.05, n), rng.choice([5.0, 25.0, 60.0, 150.0], n)]
+    rows[rng.random(n) < 0.1, :2] = np.nan  # then the point before: a move of no length
+    for i in np.flatnonzero(np.isnan(rows[:, 0])):
+        rows[i, :2] = rows[i - 1, :2] if i else 0.0
+    rows[rng.random(n) < 0.05, 3] *= -20  # retractions
+    start = np.array([1.0, 2.0, 0.2])
+    ends = np.round(rows[:, :3], 3)
+    starts = np.vstack([start, ends[:-1]])
+    want = float(move_times(starts, ends, np.round(rows[:, 3], 5), rows[:, 4], acceleration=1250.0, jerk=9.0).sum())
+    assert stream_seconds(rows, start, 1250.0, 9.0) == want
