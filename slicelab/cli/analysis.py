@@ -6,14 +6,13 @@ import sys
 from pathlib import Path
 
 from ..mesh.io import MeshFileError
-from ..tasks.jobs import JOBS, run_job
+from ..tasks.jobs import JOBS, TASKS, run_job
 from .arguments import (
     finish,
     command,
     GIVEN, UsageError, add_plane_arguments, default, max_gap, no_preview, options, plane, positive,
     say_repair, vector, warn,
 )
-from ..tasks.batch import TASKS
 
 __all__ = ["COMMANDS", "DOCS"]
 

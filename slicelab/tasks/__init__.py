@@ -16,7 +16,7 @@ from .._lazy import attach
 
 # Submodule of each public name: they load on first use (matplotlib and the like are slow to import).
 _WHERE = {"write_plates": "plates", "arrange_files": "plates", "Job": "spec", "JobInput": "spec", "JobResult": "spec", "ParameterError": "spec", "JOBS": "jobs",
-          "job_parameters": "jobs", "run_job": "jobs", "run_jobs": "executors", "TASKS": "batch",
+          "job_parameters": "jobs", "run_job": "jobs", "run_jobs": "executors", "TASKS": "jobs",
           "BatchResult": "batch", "task_parameters": "batch", "find_mesh_files": "batch",
           "process_file": "batch", "run_batch": "batch", "write_summary": "batch"}
 

@@ -35,13 +35,12 @@ from ..export.files import atomic_open
 from ..mesh.io import MeshFileError
 from .executors import run_jobs
 from .limits import likely_units
-from .jobs import JOBS, job_parameters, run_job
+from .jobs import JOBS, TASKS, job_parameters, run_job
 from .spec import ParameterError, choice, number, plain, reason
 
 __all__ = ["TASKS", "BatchResult", "task_parameters", "find_mesh_files", "process_file", "run_batch",
            "write_summary"]
 
-TASKS = ("inspect", "section", "split", "profile", "layers")
 STATUSES = ("ok", "warn", "fail")
 _FAILING = {"unreadable", "task_error", "task_unavailable", "worker_lost"}
 _BATCH = ("min_size", "max_size", "units", "scale")  # parameters of the batch itself, beside the job's

@@ -49,7 +49,7 @@ from .spec import (
 )
 from .spec import plane as plane_value
 
-__all__ = ["JOBS", "job_parameters", "run_job", "check_output_dir"]
+__all__ = ["JOBS", "TASKS", "job_parameters", "run_job", "check_output_dir"]
 
 
 def check_output_dir(path) -> None:
@@ -316,6 +316,8 @@ PROFILE = Job(
 )
 
 JOBS = {job.name: job for job in (INSPECT, SECTION, LAYERS, SPLIT, PROFILE, CUT, PARTITION, SLICE)}
+#: The jobs `slicelab.tasks.run_batch` runs over a folder of scans.
+TASKS = ("inspect", "section", "split", "profile", "layers")
 
 
 def job_parameters(name: str, **options) -> dict:
