@@ -406,24 +406,36 @@ def _with_supports(layers: list, sections: list, unheld: list, s: PrintSettings)
             for lp, extra in zip(layers, rows)]  # over layers
 
 
+#: A layer's cost per mm^2 of skin against its cost per mm of boundary: least squares over each
+#: layer's time gave 0.39 on the teapot, 0.41 on the pot and 0.16 on the block (solid lines fill
+#: a skin's whole area).
+_SKIN_COST = 0.4
+
+
 def _costliest_first(chunks: list, sections: list, s: PrintSettings) -> list:
     """The runs of layers in the order to hand them out: the costliest first, so that no worker
     is left with a big one at the end while the others idle (longest processing time first).
 
-    A run's cost is taken as its layers' boundary length: pixels are held only along the
-    boundaries, so that is what a layer's work follows. The runs with solid skins (the first
-    and the last) fill their whole area with lines, and go first.
+    A layer's cost is taken as its boundary's length, as pixels are held only along the
+    boundaries, plus its skin's area: the area it has and a neighbour within the skins'
+    reach lacks (or lacks and it has), all of it on the first and last layers.
     """
     n = len(sections)
-
-    def cost(chunk):
-        a, b = chunk
-        skin = a < s.bottom_layers or b > n - s.top_layers
-        length = sum(float(np.hypot(*(sec.segments[:, 1] - sec.segments[:, 0]).T).sum())
-                     for sec in sections[a:b] if len(sec.segments))  # over the run's layers
-        return (skin, length)
-
-    return sorted(chunks, key=cost, reverse=True)
+    length = np.array([float(np.hypot(*(sec.segments[:, 1] - sec.segments[:, 0]).T).sum())
+                       if len(sec.segments) else 0.0 for sec in sections])  # over layers
+    area = np.abs([sec.area for sec in sections])  # over layers
+    skin = np.zeros(n)
+    below, above = s.bottom_layers, s.top_layers
+    for d in range(1, min(n, max(below, above) + 1)):  # over the neighbours the skins read
+        change = np.abs(area[d:] - area[:-d])
+        if d <= above:
+            skin[:-d] = np.maximum(skin[:-d], change)
+        if d <= below:
+            skin[d:] = np.maximum(skin[d:], change)
+    skin[:below] = area[:below]
+    skin[max(0, n - above):] = area[max(0, n - above):]
+    cost = np.concatenate([[0.0], np.cumsum(length + _SKIN_COST * skin)])
+    return sorted(chunks, key=lambda c: cost[c[1]] - cost[c[0]], reverse=True)
 
 
 def _warm_imports() -> None:
