@@ -298,12 +298,12 @@ def main(argv=None) -> int:
           f"{'G-code':>8}{'<0.1mm':>8}{'filament':>9}{'time est.':>10}")
     for r in rows:
         if "theirs_s" in r:
-            print(f"{r['part']:<15}{r['ours_s']:>11.1f}{r['theirs_s']:>9.1f}{r['ours_s'] / r['theirs_s']:>6.1f}x"
+            print(f"{r['part']:<15}{r['ours_s']:>11.2f}{r['theirs_s']:>9.2f}{r['ours_s'] / r['theirs_s']:>6.2f}x"
                   f"{r['ours_mb']:>9.0f}{r['theirs_mb']:>9.0f}{r['bytes']:>7.2f}x{100 * r['short']:>7.1f}%"
                   f"{100 * (r['filament'] - 1):>+8.1f}%"
                   f"{100 * (r['estimate']['slicelab'] / r['estimate']['PrusaSlicer'] - 1):>+9.1f}%")
         else:
-            print(f"{r['part']:<15}{r['ours_s']:>11.1f}{'-':>9}{'-':>7}{r['ours_mb']:>9.0f}{'-':>9}{'-':>8}"
+            print(f"{r['part']:<15}{r['ours_s']:>11.2f}{'-':>9}{'-':>7}{r['ours_mb']:>9.0f}{'-':>9}{'-':>8}"
                   f"{100 * r['short']:>7.1f}%{'-':>9}")
     print(f"floor: {floor:.2f} s before any work (the libraries' imports, above)")
     print("targets: wall time <= PrusaSlicer's, G-code <= 1.3x, <= 5 % of moves under 0.1 mm, filament within "

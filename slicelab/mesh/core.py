@@ -121,6 +121,18 @@ class Mesh:
             a.setflags(write=False)
         return ids, first
 
+    @property
+    def has_weld(self) -> bool:
+        """Whether `welded` is made already (the mesh check makes it): reading it then costs nothing.
+
+        Examples
+        --------
+        >>> m = Mesh.from_vertices_faces([[0, 0, 0], [1, 0, 0], [0, 1, 0]], [[0, 1, 2]])
+        >>> m.has_weld, len(m.welded[1]), m.has_weld
+        (False, 3, True)
+        """
+        return "welded" in self.__dict__
+
     @classmethod
     def from_triangles(cls, triangles, file_normals=None) -> "Mesh":
         """Build a mesh from an (n, 3, 3) array of corners.

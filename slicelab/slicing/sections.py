@@ -383,7 +383,7 @@ def slice_layers(mesh: Mesh, layer_height: float | None = None, *, heights=None,
     hi = np.searchsorted(planes, zmax, side="right")  # planes at or below its highest corner
     # The corners' vertex ids: the mesh's weld when it is known already (the mesh check makes it) or
     # cheaper than welding the crossing facets' corners (most facets crossed), else those alone.
-    if "welded" in vars(mesh) or int((hi - lo).sum()) >= len(t):
+    if mesh.has_weld or int((hi - lo).sum()) >= len(t):
         vertex = mesh.welded[0]
     else:
         crossed = np.flatnonzero(hi > lo)
