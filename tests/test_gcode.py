@@ -481,14 +481,6 @@ def test_gcode_formatted_by_a_pool_is_the_serial_file(tmp_path):
     assert t1["seconds"] == t2["seconds"] and t1["filament"] == t2["filament"]
 
 
-def _python_written(p, path, monkeypatch):
-    """The plan written with every layer through the Python writer (the compiled one turned away)."""
-    import slicelab.export.gcode as gcode
-    with monkeypatch.context() as m:
-        m.setattr(gcode._LayerKernel, "of", classmethod(lambda cls, *args: None))
-        return write_gcode(p, path, workers=1)
-
-
 @pytest.mark.parametrize("case", ["cube", "bridge", "slowed"])
 def test_compiled_writer_writes_the_python_bytes(tmp_path, monkeypatch, case, data_dir):
     # The compiled writer and the Python writer, read back from disk: the same bytes (travels,
@@ -505,14 +497,16 @@ def test_compiled_writer_writes_the_python_bytes(tmp_path, monkeypatch, case, da
         p = plan(box((0, 0, 0), (6, 6, 2.4)), s, workers=1)
     import slicelab.export.gcode as gcode
     runs = []
-    run = gcode._LayerKernel.run
-    monkeypatch.setattr(gcode._LayerKernel, "run", lambda self, *a: runs.append(a) or run(self, *a))
+    layer_moves = gcode.layer_moves
+    monkeypatch.setattr(gcode, "layer_moves", lambda *a: runs.append(a[4][5]) or layer_moves(*a))
     fast, slow = tmp_path / "compiled.gcode", tmp_path / "python.gcode"
     t1 = write_gcode(p, fast, workers=1)
-    assert len(runs) >= len(p.layers) - 1  # every layer with paths went through the compiled writer
+    assert len(runs) >= len(p.layers) - 1  # every layer with paths went through the compiled pass
     if case == "slowed":
-        assert any(factor < 1 for factor, _ in runs)
-    t2 = _python_written(p, slow, monkeypatch)
+        assert min(runs) < 1  # some at a slower speed (its factor)
+    n = len(runs)
+    t2 = write_gcode(p, slow, workers=1, compiled=False)
+    assert len(runs) == n  # and none through it with compiled=False
     assert fast.read_bytes() == slow.read_bytes()
     assert t1["seconds"] == t2["seconds"] and t1["filament"] == t2["filament"]
     assert t1["layer_seconds"] == t2["layer_seconds"]
@@ -520,14 +514,18 @@ def test_compiled_writer_writes_the_python_bytes(tmp_path, monkeypatch, case, da
 
 def test_compiled_writer_leaves_what_it_cannot_write_to_python():
     # A coordinate beyond what it formats (or not finite) leaves the layer to Python's writer.
-    from slicelab.export.gcode import _BRIDGE, _PERIMETER, _WORD_AT, _WORD_BYTES
     from slicelab.export.text_kernels import layer_moves
+    words = [f";TYPE:{STYLES[k].gcode_type}\n".encode() for k in STYLES]
+    word_bytes = np.frombuffer(b"".join(words), np.uint8).copy()
+    word_at = np.r_[0, np.cumsum([len(w) for w in words])].astype(np.int64)
+    perimeter = np.array([k in ("external", "hole", "internal") for k in STYLES])
     f = np.frombuffer(b"9000", np.uint8).copy()
     for bad in (1e20, np.nan, np.inf):
         xy = np.array([[0.0, 0.0], [bad, 1.0]])
         out, size, _, _ = layer_moves(xy, np.array([2]), np.array([4]), np.full(2, 0.4), np.r_[0.2, 0.2, 0.05,
-                                      np.zeros(14)], np.full(len(_PERIMETER), 50.0), _PERIMETER, _BRIDGE,
-                                      _WORD_BYTES, _WORD_AT, f, f, np.zeros(3), np.zeros(3), True)
+                                      np.zeros(14)], np.full(len(STYLES), 50.0), perimeter,
+                                      list(STYLES).index("bridge"), word_bytes, word_at, f, f, np.zeros(3),
+                                      np.zeros(3), True)
         assert size == -1
 
 

@@ -85,7 +85,7 @@ class _Moves:
         return float(t.sum())
 
 
-def gcode_lines(plan, totals: dict | None = None, *, workers: int = 1):
+def gcode_lines(plan, totals: dict | None = None, *, workers: int = 1, compiled: bool = True):
     """Yield the G-code text in blocks (header, each layer, end, the totals).
 
     Parameters
@@ -97,6 +97,9 @@ def gcode_lines(plan, totals: dict | None = None, *, workers: int = 1):
         (each layer's time, slowed to `min_layer_time` where needed).
     workers : int, default 1
         Processes formatting the layers; the text is the same for any number.
+    compiled : bool, default True
+        Layers written by the compiled pass (`slicelab.export.text_kernels.layer_moves`);
+        False writes every layer with Python, the same bytes, a few times slower.
 
     See Also
     --------
@@ -117,7 +120,7 @@ def gcode_lines(plan, totals: dict | None = None, *, workers: int = 1):
     z = 0.0
     fan_now = 0  # M107 above
     layer_seconds = []
-    for k, (text, t, used) in enumerate(_layer_blocks(plan, starts, workers)):  # over layers, in order
+    for k, (text, t, used) in enumerate(_layer_blocks(plan, starts, workers, compiled)):  # over layers, in order
         lp, h = plan.layers[k], plan.heights[k]
         z = lp.z + 0.0
         fan = layer_fan(k, t, s)
@@ -178,7 +181,7 @@ def _pooled(plan) -> bool:
     return len(plan.layers) > 2 * _GCODE_RUN and 1e-4 * len(plan.layers) + 3.5e-7 * points > 0.15
 
 
-def _layer_blocks(plan, starts: list, workers: int):
+def _layer_blocks(plan, starts: list, workers: int, compiled: bool = True):
     """Each layer's (text, seconds, filament), in order: formatted here or by a pool of processes."""
     n = len(plan.layers)
     s, off = plan.settings, plan.offset
@@ -186,7 +189,7 @@ def _layer_blocks(plan, starts: list, workers: int):
 
     def job(run):
         return (list(run), [plan.layers[k] for k in run], [float(plan.heights[k]) for k in run], s, off,
-                [starts[k] for k in run])
+                [starts[k] for k in run], compiled)
 
     if workers <= 1 or len(runs) < 2:
         for run in runs:
@@ -200,22 +203,24 @@ def _layer_blocks(plan, starts: list, workers: int):
             yield from fut.result()
 
 
-def _format_run(ks: list, layers: list, heights: list, s, off, starts: list) -> list:
+def _format_run(ks: list, layers: list, heights: list, s, off, starts: list, compiled: bool = True) -> list:
     """The (text, seconds, filament) of some layers, each from its start (`_layer_starts`): its
     inputs come as arguments, so a pool's worker needs nothing from its parent."""
-    fixed_inputs = _WriterSettings(s)
+    fixed_inputs = _WriterSettings(s) if compiled else None
     return [_layer_block(k, lp, h, s, off, pos, at, fixed_inputs)
             for k, lp, h, (pos, at) in zip(ks, layers, heights, starts)]
 
 
-def _layer_block(k: int, lp, h: float, s, off, pos, at, fixed_inputs=None) -> tuple[str, float, float]:
+def _layer_block(k: int, lp, h: float, s, off, pos, at, fixed_inputs: "_WriterSettings | None" = None) \
+        -> tuple[str, float, float]:
     """One layer's G-code (without its header; its fan as a marker), its time and filament.
 
     Written at full speed first; a layer quicker than `min_layer_time` is written again slower,
     so that it has time to cool before the next one is laid on it. The compiled writer
-    (`slicelab.export.text_kernels.layer_moves`) writes it when it can, else Python, the same bytes.
+    (`slicelab.export.text_kernels.layer_moves`) writes it when it can and `fixed_inputs` are
+    given, else Python, the same bytes.
     """
-    fast = _LayerKernel.of(k, lp, h, fixed_inputs or _WriterSettings(s), off, pos, at)
+    fast = None if fixed_inputs is None else _LayerKernel.of(k, lp, h, fixed_inputs, off, pos, at)
     if fast is not None:
         text, used, t = fast.run(1.0, True)
         factor = 1.0
@@ -464,7 +469,7 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
     return "".join(out), filament
 
 
-def write_gcode(plan, path, *, workers: int | None = None) -> dict:
+def write_gcode(plan, path, *, workers: int | None = None, compiled: bool = True) -> dict:
     """Write the plan's G-code to `path` (temporary name, renamed when whole).
 
     Parameters
@@ -475,6 +480,8 @@ def write_gcode(plan, path, *, workers: int | None = None) -> dict:
         Processes formatting the layers (default: all cores for a plan whose
         formatting takes longer than starting a pool and gathering its text,
         else 1: see `_pooled`); the file is the same for any number.
+    compiled : bool, default True
+        False writes every layer with Python (see `gcode_lines`): the same file.
 
     Returns
     -------
@@ -503,7 +510,7 @@ def write_gcode(plan, path, *, workers: int | None = None) -> dict:
         workers = (os.cpu_count() or 1) if _pooled(plan) else 1
     totals: dict = {}
     with atomic_open(path, "w", encoding="utf-8") as fh:
-        for block in gcode_lines(plan, totals, workers=max(1, int(workers))):
+        for block in gcode_lines(plan, totals, workers=max(1, int(workers)), compiled=compiled):
             fh.write(block)
     return totals
 
