@@ -10,13 +10,18 @@ their own time and by cumulative time. No reference tool: this says where slicel
 `scripts/bench_slice.py` compares the whole command with PrusaSlicer. Cost: linear in the
 layers profiled.
 
+``--costs`` prints instead how each layer's time (planning the whole part in one process) follows the
+terms of the planner's estimate of a layer's cost, which orders the runs of layers handed to the
+workers: the least-squares fit of the time to the boundary's length and the skin's area, the
+skin's weight it implies, and the costliest layers. ``--scale S`` scales the part to S mm first.
+
 ``--accuracy`` prints instead how far the perimeters of five layers (at 20, 35, 50, 65 and
 80 % of the height) stray from shapely's exact offsets of the same sections (round joins,
 64 segments a quarter circle), at pixel sizes 0.1, 0.15 and 0.2 mm: the largest distance
 from a point of our perimeters (every 0.02 mm along them) to the exact offsets, and its 99.9th
 and 99th percentiles. The reference is GEOS's offset, computed in the same run.
 
-    python scripts/profile_layers.py [MESH] [--top 35] [--pixel-size P] [--accuracy]
+    python scripts/profile_layers.py [MESH] [--top 35] [--pixel-size P] [--accuracy] [--costs] [--scale S]
 """
 from __future__ import annotations
 
@@ -95,6 +100,46 @@ def accuracy(mesh, sizes=(0.1, 0.15, 0.2)) -> None:
         print(f"{p:8.2f} {d.max():12.4f} {np.percentile(d, 99.9):8.4f} {np.percentile(d, 99):6.4f}")
 
 
+def costs(mesh, s) -> None:
+    """Each layer's time (its `layer_paths`, where its skins are filled) against the terms of the
+    planner's estimate of its cost, which orders the runs handed to the workers: the least-squares
+    fit of time = a x boundary + b x skin + c, and the skin's weight b / a."""
+    import numpy as np
+
+    from slicelab.slicing.sections import slice_layers
+    from slicelab.toolpath import paths, planner
+    spent = {}
+    f = paths.layer_paths
+
+    def timed(*a, **k):
+        t = time.perf_counter()
+        try:
+            return f(*a, **k)
+        finally:
+            spent[k["layer_index"]] = 1000 * (time.perf_counter() - t)
+
+    paths.layer_paths = timed
+    try:
+        planner.plan(mesh, s, workers=1)  # imports, compiled kernels
+        spent.clear()
+        planner.plan(mesh, s, workers=1)
+    finally:
+        paths.layer_paths = f
+    lo, hi = mesh.bounds
+    bounds = planner.layer_bounds(float(hi[2] - lo[2]), s.layer_height, s.first_layer_height)
+    length, skin = planner._layer_costs(slice_layers(mesh, heights=lo[2] + bounds.mean(axis=1)), s)
+    ms = np.array([spent.get(k, 0.0) for k in range(len(length))])
+    x = np.c_[length, skin, np.ones(len(ms))]
+    (a, b, c), *_ = np.linalg.lstsq(x, ms, rcond=None)
+    r2 = 1 - float(((ms - x @ (a, b, c)) ** 2).sum() / max(((ms - ms.mean()) ** 2).sum(), 1e-300))
+    print(f"{len(ms)} layers, {ms.sum() / 1000:.2f} s in layer_paths, one process")
+    print(f"ms per layer = {a:.5f} x boundary mm + {b:.6f} x skin mm^2 + {c:.2f} (R^2 {r2:.2f}); skin weight "
+          f"b / a = {b / a:.2f} (the planner uses {planner._SKIN_COST})")
+    print("costliest layers:   ms   boundary mm   skin mm^2")
+    for k in np.argsort(ms)[::-1][:8]:
+        print(f"  {k:>6} {ms[k]:10.2f} {length[k]:12.1f} {skin[k]:11.1f}")
+
+
 def main() -> None:
     import slicelab
     from slicelab.slicing.sections import slice_layers
@@ -106,14 +151,23 @@ def main() -> None:
     ap.add_argument("--top", type=int, default=35)
     ap.add_argument("--pixel-size", type=float, default=None, help="mm (default: slicelab's)")
     ap.add_argument("--accuracy", action="store_true", help="the perimeters against shapely's offsets instead")
+    ap.add_argument("--costs", action="store_true", help="every layer's time against the planner's cost terms")
+    ap.add_argument("--scale", type=float, default=None, help="scale the part to this size (mm) first")
     args = ap.parse_args()
     mesh = slicelab.load(args.mesh)
+    if args.scale:
+        lo, hi = mesh.bounds
+        mesh = slicelab.Mesh(mesh.triangles * (args.scale / float(max(hi - lo))))
     if args.accuracy:
         accuracy(mesh)
         return
     s = PrintSettings(top_layers=3, bottom_layers=3)
     if args.pixel_size:
         s = PrintSettings(top_layers=3, bottom_layers=3, pixel_size=args.pixel_size)
+    if args.costs:
+        costs(mesh, PrintSettings(top_layers=3, bottom_layers=3, skirt_loops=0, bed_size=(1000, 1000),
+                                  max_height=1000, pixel_size=s.pixel_size))
+        return
     lo, hi = mesh.bounds
     bounds = planner.layer_bounds(float(hi[2] - lo[2]), s.layer_height, s.first_layer_height)
     sections = slice_layers(mesh, heights=lo[2] + bounds.mean(axis=1))

@@ -406,20 +406,15 @@ def _with_supports(layers: list, sections: list, unheld: list, s: PrintSettings)
             for lp, extra in zip(layers, rows)]  # over layers
 
 
-#: A layer's cost per mm^2 of skin against its cost per mm of boundary: least squares over each
-#: layer's time gave 0.39 on the teapot, 0.41 on the pot and 0.16 on the block (solid lines fill
-#: a skin's whole area).
+#: A layer's cost per mm^2 of skin against its cost per mm of boundary (solid lines fill a skin's
+#: whole area): `scripts/profile_layers.py --costs` fits it to each layer's time (0.14-0.39 on the
+#: block, the pot and the teapot).
 _SKIN_COST = 0.4
 
 
-def _costliest_first(chunks: list, sections: list, s: PrintSettings) -> list:
-    """The runs of layers in the order to hand them out: the costliest first, so that no worker
-    is left with a big one at the end while the others idle (longest processing time first).
-
-    A layer's cost is taken as its boundary's length, as pixels are held only along the
-    boundaries, plus its skin's area: the area it has and a neighbour within the skins'
-    reach lacks (or lacks and it has), all of it on the first and last layers.
-    """
+def _layer_costs(sections: list, s: PrintSettings) -> tuple[np.ndarray, np.ndarray]:
+    """Each layer's boundary length (mm) and skin area (mm^2): the area it has and a neighbour
+    within the skins' reach lacks (or lacks and it has), all of it on the first and last layers."""
     n = len(sections)
     length = np.array([float(np.hypot(*(sec.segments[:, 1] - sec.segments[:, 0]).T).sum())
                        if len(sec.segments) else 0.0 for sec in sections])  # over layers
@@ -434,6 +429,17 @@ def _costliest_first(chunks: list, sections: list, s: PrintSettings) -> list:
             skin[d:] = np.maximum(skin[d:], change)
     skin[:below] = area[:below]
     skin[max(0, n - above):] = area[max(0, n - above):]
+    return length, skin
+
+
+def _costliest_first(chunks: list, sections: list, s: PrintSettings) -> list:
+    """The runs of layers in the order to hand them out: the costliest first, so that no worker
+    is left with a big one at the end while the others idle (longest processing time first).
+
+    A layer's cost is taken as its boundary's length, as pixels are held only along the
+    boundaries, plus `_SKIN_COST` times its skin's area (`_layer_costs`).
+    """
+    length, skin = _layer_costs(sections, s)
     cost = np.concatenate([[0.0], np.cumsum(length + _SKIN_COST * skin)])
     return sorted(chunks, key=lambda c: cost[c[1]] - cost[c[0]], reverse=True)
 
