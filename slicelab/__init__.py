@@ -46,7 +46,7 @@ _LAZY = {
     "Profile": "artefacts.profiles", "Measurements": "artefacts.measure",
     "run_batch": "tasks",
     "rasterize": "toolpath.raster", "LayerRaster": "toolpath.raster", "GridMask": "toolpath.raster",
-    "raster_hierarchy": "toolpath.raster",
+    "raster_hierarchy": "toolpath.hierarchy",
     "layer_perimeters": "toolpath.perimeters", "Perimeters": "toolpath.perimeters",
     "layer_paths": "toolpath.paths", "LayerPaths": "toolpath.paths",
     "PrintSettings": "toolpath.planner", "PrintPlan": "toolpath.planner", "plan": "toolpath.planner",

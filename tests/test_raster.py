@@ -4,7 +4,8 @@ import pytest
 from matplotlib.path import Path as MplPath
 
 import slicelab
-from slicelab.toolpath.raster import GridMask, raster_hierarchy, rasterize
+from slicelab.toolpath.hierarchy import raster_hierarchy
+from slicelab.toolpath.raster import GridMask, rasterize
 from slicelab.samples import box, concat, nested_shells
 from layer_shapes import SHAPES, circle, rect, section_of, star
 

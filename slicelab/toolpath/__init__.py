@@ -2,7 +2,8 @@
 
 ==========================  =====================================================
 ``toolpath.masks``          pixel masks on the world grid: whole windows, or blocks along a boundary
-``toolpath.raster``         `rasterize` a section, the raster hole hierarchy, drawing lines
+``toolpath.raster``         `rasterize` a section (or its mask alone), drawing lines
+``toolpath.hierarchy``      the raster hole hierarchy: OpenCV's contour tree matched to the loops
 ``toolpath.distance``       the exact distance field of a layer and its level sets
 ``toolpath.perimeters``     erosion-based perimeters, filling limits
 ``toolpath.gapfill``        gap fill along the medial axis of what perimeters and filling miss
@@ -29,8 +30,8 @@ from __future__ import annotations
 from .._lazy import attach
 
 # Submodule of each public name: they load on first use (matplotlib and the like are slow to import).
-_WHERE = {"PRINTERS": "printers", "FLAVORS": "printers", "resolve_settings": "printers", "read_config": "printers", "format_config": "printers", "render_gcode": "printers", "MARLIN_START": "printers", "MARLIN_END": "printers", "GridMask": "masks", "BlockMask": "masks", "bits_in_blocks": "masks", "open_mask": "masks", "LayerRaster": "raster", "RasterContours": "raster", "rasterize": "raster",
-          "winding_numbers": "raster", "raster_hierarchy": "raster", "draw_polylines": "raster", "RULES": "raster",
+_WHERE = {"PRINTERS": "printers", "FLAVORS": "printers", "resolve_settings": "printers", "read_config": "printers", "format_config": "printers", "render_gcode": "printers", "MARLIN_START": "printers", "MARLIN_END": "printers", "GridMask": "masks", "BlockMask": "masks", "bits_in_blocks": "masks", "open_mask": "masks", "LayerRaster": "raster", "RasterContours": "hierarchy", "rasterize": "raster", "layer_mask": "raster",
+          "winding_numbers": "raster", "raster_hierarchy": "hierarchy", "draw_polylines": "raster", "RULES": "raster",
           "winding_blocks": "raster", "raster_blocks": "raster", "BLOCK": "raster", "BAND": "raster",
           "DistanceField": "distance", "signed_mask_distance": "distance", "distance_field": "distance",
           "level_rings": "distance",
@@ -53,7 +54,7 @@ _WHERE = {"PRINTERS": "printers", "FLAVORS": "printers", "resolve_settings": "pr
           "GROUPS": "settings"}
 
 
-__all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_config", "render_gcode", "MARLIN_START", "MARLIN_END", "GridMask", "BlockMask", "bits_in_blocks", "open_mask", "LayerRaster", "RasterContours", "rasterize", "winding_numbers", "raster_hierarchy",
+__all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_config", "render_gcode", "MARLIN_START", "MARLIN_END", "GridMask", "BlockMask", "bits_in_blocks", "open_mask", "LayerRaster", "RasterContours", "rasterize", "layer_mask", "winding_numbers", "raster_hierarchy",
            "draw_polylines", "RULES", "winding_blocks", "raster_blocks", "BLOCK", "BAND", "DistanceField", "signed_mask_distance", "distance_field", "level_rings",
            "level_polygons", "Perimeters", "layer_perimeters", "medial_fill", "mask_rings", "perimeter_depth",
            "perimeter_band", "split_by_mask", "disc", "uncovered_blocks", "medial_fill_blocks", "FillLines",

@@ -190,7 +190,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     from .paths import layer_paths
     from .perimeters import perimeter_band
     from .skins import internal_bridge, layer_skins
-    from .raster import rasterize
+    from .raster import layer_mask, rasterize
     from .simplify import simplify_paths
     from .skirt import skirt_loops, with_skirt
     sections = window
@@ -198,13 +198,19 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     rasters, masks = {}, {}
 
     def reach(k):
-        """Rasters and masks of the layers layer k's skins read, and of none below them."""
-        for j in [j for j in rasters if j < k - s.bottom_layers - 1]:  # over the few left behind
-            del rasters[j], masks[j]
+        """Masks of the layers layer k's skins read, and of none below them; rasters of those this
+        call plans (its neighbours beyond are read only as masks)."""
+        for j in [j for j in masks if j < k - s.bottom_layers - 1]:  # over the few left behind
+            del masks[j]
+            rasters.pop(j, None)
         for j in range(max(0, k - s.bottom_layers - 1), min(n, k + s.top_layers + 1)):  # the window
-            if j not in rasters:
+            if j in masks:
+                continue
+            if first <= j < stop:
                 rasters[j] = rasterize(sections[j], s.pixel_size, rule=s.rule, band=band)
                 masks[j] = rasters[j].combined() if rasters[j].tiles else None
+            else:
+                masks[j] = layer_mask(sections[j], s.pixel_size, rule=s.rule, band=band)
 
     out = []
     reach(first)  # (the skins of layer first - 1 read no further)

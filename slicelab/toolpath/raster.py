@@ -17,6 +17,10 @@ pixels only in the blocks within `band` of the boundary, found from the
 edges' extents; every other block is inside or outside as a whole, which the
 winding number of one pixel of it says. Rasterising then costs in proportion
 to the boundary, not to the area of the island's box.
+
+See Also
+--------
+slicelab.toolpath.hierarchy : the raster hole hierarchy (OpenCV's contour tree of a layer raster).
 """
 from __future__ import annotations
 
@@ -25,12 +29,11 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..geometry.blocks import FULL, BlockGrid, blocks_near
-from ..geometry.polygons import signed_area
 from ..geometry.spatial import split_segments
 from .masks import BlockMask, GridMask, pixels_in_boxes
 
-__all__ = ["GridMask", "LayerRaster", "RasterContours", "rasterize", "winding_numbers", "winding_blocks",
-           "raster_blocks", "raster_hierarchy", "draw_polylines", "RULES", "BLOCK", "BAND"]
+__all__ = ["GridMask", "LayerRaster", "rasterize", "layer_mask", "winding_numbers", "winding_blocks",
+           "raster_blocks", "draw_polylines", "RULES", "BLOCK", "BAND"]
 
 RULES = ("nonzero", "evenodd")
 BLOCK = 32  # block size (pixels) of layer masks
@@ -316,6 +319,51 @@ def _groups(lo: np.ndarray, hi: np.ndarray) -> np.ndarray:
     return graph_components(n, *np.nonzero(overlap))[1]
 
 
+def _layer_window(loops: list, p: float, margin: int):
+    """The loops' boxes in pixels, widened by the margin, and the layer's window: (plo, phi), (row0,
+    col0), shape."""
+    lo = np.array([lp.min(axis=0) for lp in loops])
+    hi = np.array([lp.max(axis=0) for lp in loops])
+    plo = np.floor(lo / p).astype(np.int64) - margin
+    phi = np.ceil(hi / p).astype(np.int64) + margin
+    c0, r0 = plo.min(axis=0)
+    c1, r1 = phi.max(axis=0)
+    return plo, phi, (int(r0), int(c0)), (int(r1 - r0 + 1), int(c1 - c0 + 1))
+
+
+def _checked(rule: str, pixel_size) -> float:
+    if rule not in RULES:
+        raise ValueError(f"rule must be one of {RULES}, got {rule!r}")
+    p = float(pixel_size)
+    if not (p > 0 and np.isfinite(p)):
+        raise ValueError(f"pixel size must be a positive number, got {pixel_size!r}")
+    return p
+
+
+def layer_mask(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margin: int = 3, band: float = BAND,
+               block: int = BLOCK) -> BlockMask | None:
+    """A section's material alone, as `rasterize` holds it (its tile), or None for an empty layer.
+
+    What the skins and overhangs read of a neighbouring layer: the mask, without the
+    islands and the loop edges that bound material, which the layer's own perimeters need.
+
+    Examples
+    --------
+    >>> import slicelab
+    >>> from slicelab.samples import box
+    >>> s = slicelab.section(box((0, 0, 0), (2, 1, 1)), (0, 0, 0.5), (0, 0, 1))
+    >>> m = layer_mask(s, 0.1)
+    >>> round(m.area, 9), np.array_equal(m.mask, rasterize(s, 0.1).tiles[0].mask)
+    (2.0, True)
+    """
+    p = _checked(rule, pixel_size)
+    loops = [np.asarray(lp, np.float64) for lp in section.loops if len(lp) >= 3]
+    if not loops:
+        return None
+    _, _, (r0, c0), shape = _layer_window(loops, p, margin)
+    return raster_blocks(_edges(loops), r0, c0, shape, p, rule=rule, band=band, size=block)
+
+
 def rasterize(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margin: int = 3,
               band: float = BAND, block: int = BLOCK) -> LayerRaster:
     """Rasterise a section's material on the world-anchored pixel grid.
@@ -349,28 +397,18 @@ def rasterize(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margin
     >>> len(r.tiles), round(r.area, 9), r.tiles[0].row0, r.tiles[0].col0
     (1, 2.0, -3, -3)
     """
-    if rule not in RULES:
-        raise ValueError(f"rule must be one of {RULES}, got {rule!r}")
-    p = float(pixel_size)
-    if not (p > 0 and np.isfinite(p)):
-        raise ValueError(f"pixel size must be a positive number, got {pixel_size!r}")
+    p = _checked(rule, pixel_size)
     loops = [np.asarray(lp, np.float64) for lp in section.loops if len(lp) >= 3]
     if not loops:
         return LayerRaster((), p, rule, [], np.zeros(0, np.int64), [], float(band))
-    lo = np.array([lp.min(axis=0) for lp in loops])
-    hi = np.array([lp.max(axis=0) for lp in loops])
     # Pixel-index boxes, widened by the margin: loops whose boxes meet make one island.
-    plo = np.floor(lo / p).astype(np.int64) - margin
-    phi = np.ceil(hi / p).astype(np.int64) + margin
+    plo, phi, (r0, c0), shape = _layer_window(loops, p, margin)
     group = _groups(plo, phi)
     n_islands = int(group.max()) + 1
     boxes = np.empty((n_islands, 4), np.int64)
     # One tile for the whole layer, however many islands: each stage of a tile (distance field,
     # level sets, openings) has a fixed cost, and blocks far from every boundary cost nothing.
-    c0, r0 = plo.min(axis=0)
-    c1, r1 = phi.max(axis=0)
-    shape = (int(r1 - r0 + 1), int(c1 - c0 + 1))
-    tile = raster_blocks(_edges(loops), int(r0), int(c0), shape, p, rule=rule, band=band, size=block)
+    tile = raster_blocks(_edges(loops), r0, c0, shape, p, rule=rule, band=band, size=block)
     seg_lists = []
     for g in range(n_islands):  # over islands: their boxes, and which of their edges bound material
         members = np.flatnonzero(group == g)
@@ -440,97 +478,6 @@ def _bounding(pieces, edges, tile, rule: str, at: float = 0.5) -> np.ndarray:
         wl, wr = (winding_at(np.ascontiguousarray(mid[unsure] + s * eps), e) for s in (1, -1))
         left[unsure], right[unsure] = ((wl != 0), (wr != 0)) if rule == "nonzero" else ((wl % 2 == 1), (wr % 2 == 1))
     return (left != right) & (length > 0)
-
-
-@dataclass(frozen=True, eq=False)
-class RasterContours:
-    """The contour tree of a layer raster (OpenCV ``RETR_TREE``), matched to the vector loops.
-
-    Attributes
-    ----------
-    contours : list of (k, 2) ndarray
-        Boundary pixel centres of each contour, in mm.
-    tile : (n,) int ndarray
-        Tile of each contour.
-    depth : (n,) int ndarray
-        0 for an outer boundary, 1 for a hole, 2 for an island in a hole...
-    parent : (n,) int ndarray
-        Enclosing contour, or -1.
-    loop : (n,) int ndarray
-        The section loop each contour traces (index into ``raster.loops``),
-        or -1 when none does (e.g. the union of overlapping shells).
-    """
-
-    contours: list
-    tile: np.ndarray
-    depth: np.ndarray
-    parent: np.ndarray
-    loop: np.ndarray
-
-
-def raster_hierarchy(raster: LayerRaster) -> RasterContours:
-    """Outer boundaries, holes and islands in holes of a raster, to any depth.
-
-    A contour is matched to the vector loop of the same kind (outer or hole)
-    whose bounding box is nearest, if within 1.5 pixels on every side.
-
-    Examples
-    --------
-    >>> import slicelab
-    >>> from slicelab.samples import nested_shells
-    >>> s = slicelab.section(nested_shells(), (0, 0, 20), (0, 0, 1))
-    >>> h = raster_hierarchy(rasterize(s, 0.5))
-    >>> h.depth.tolist(), (s.loop_depth[h.loop]).tolist()
-    ([0, 1, 2], [0, 1, 2])
-    """
-    import cv2
-    p = raster.pixel_size
-    contours, tiles, depths, parents, matched = [], [], [], [], []
-    loop_lo = np.array([lp.min(axis=0) for lp in raster.loops]).reshape(-1, 2)
-    loop_hi = np.array([lp.max(axis=0) for lp in raster.loops]).reshape(-1, 2)
-    loop_ccw = np.array([signed_area(lp) > 0 for lp in raster.loops], bool)
-    # Island by island, each in its own box: far-apart islands share a tile, not a window.
-    if len(raster.island_boxes):
-        parts = [(t, GridMask(tile.window(r0, c0, (r1 - r0 + 1, c1 - c0 + 1)), r0, c0, p),
-                  np.flatnonzero((raster.loop_tile == t) & (raster.loop_island == g)))
-                 for t, tile in enumerate(raster.tiles)
-                 for g, (r0, c0, r1, c1) in enumerate(raster.island_boxes.tolist())]
-    else:  # a raster made without islands: each tile whole
-        parts = [(t, tile, np.flatnonzero(raster.loop_tile == t)) for t, tile in enumerate(raster.tiles)]
-    for t, tile, cand in parts:  # over islands
-        cs, hier = cv2.findContours(tile.mask.astype(np.uint8), cv2.RETR_TREE, cv2.CHAIN_APPROX_SIMPLE)
-        if hier is None:
-            continue
-        par = hier[0][:, 3].astype(np.int64)
-        dep = np.zeros(len(cs), np.int64)
-        for k in range(len(cs)):  # over contours: follow parent links
-            j = par[k]
-            while j >= 0:
-                dep[k] += 1
-                j = par[j]
-        base = len(contours)
-        used = set()
-        order = np.argsort([-cv2.contourArea(c) for c in cs], kind="stable")
-        match = np.full(len(cs), -1, np.int64)
-        for k in order:  # over contours
-            pts = tile.xy(cs[k][:, 0, 1], cs[k][:, 0, 0])
-            lo, hi = pts.min(axis=0), pts.max(axis=0)
-            kind = dep[k] % 2 == 0
-            ok = cand[(loop_ccw[cand] == kind) & ~np.isin(cand, list(used))]
-            if len(ok):
-                cost = np.maximum(np.abs(loop_lo[ok] - lo).max(axis=1), np.abs(loop_hi[ok] - hi).max(axis=1))
-                best = int(np.argmin(cost))
-                if cost[best] <= 1.5 * p:
-                    match[k] = ok[best]
-                    used.add(int(ok[best]))
-        for k in range(len(cs)):
-            contours.append(tile.xy(cs[k][:, 0, 1], cs[k][:, 0, 0]))
-        tiles += [t] * len(cs)
-        depths.append(dep)
-        parents.append(np.where(par >= 0, par + base, -1))
-        matched.append(match)
-    cat = (lambda xs: np.concatenate(xs) if xs else np.zeros(0, np.int64))
-    return RasterContours(contours, np.array(tiles, np.int64), cat(depths), cat(parents), cat(matched))
 
 
 def draw_polylines(shape, row0: int, col0: int, pixel_size: float, polylines, width: float, *,

@@ -55,7 +55,7 @@ def plot_raster(raster, hierarchy=None, ax=None, *, cmap="tab10"):
     """
     import matplotlib.pyplot as plt
 
-    from ..toolpath.raster import raster_hierarchy
+    from ..toolpath.hierarchy import raster_hierarchy
     ax = _axes(ax)
     from ..toolpath.masks import GridMask
     for tile in raster.tiles:  # each island in its own box (far-apart islands share a tile)
