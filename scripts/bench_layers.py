@@ -14,9 +14,14 @@ radius 10, 20, 40, 80 and 160 mm, at the default pixel (0.2 mm): the median time
 boundary doubles when the radius doubles; work over the islands' boxes would quadruple. The
 exponent fitted to time ~ radius^k says which.
 
+Skins: the same rings as a top skin, their whole area solid (filled with lines): the time of
+`layer_paths` and of the solid filling's gap fill in it, by radius. The lines grow with the area,
+which grows with the radius here; the gap fill works on the dense box of the solid region, which
+grows with its square.
+
 The machine may be shared: timings are medians, and still noisy.
 
-    python scripts/bench_layers.py [--repeat 3] [--table layers|rings|all]
+    python scripts/bench_layers.py [--repeat 3] [--table layers|rings|skins|all]
 """
 from __future__ import annotations
 
@@ -115,6 +120,54 @@ def ring_table(repeat: int) -> None:
           "(1: follows the boundary, 2: the area)")
 
 
+def skin_table(repeat: int) -> None:
+    """The same rings as a top skin (their whole area solid, filled with lines): time per layer and
+    the share of it in the solid filling's gap fill (`_solid_gaps`), by radius, and the exponent."""
+    import numpy as np
+    import slicelab
+    from slicelab.toolpath import paths
+    from slicelab.toolpath.perimeters import perimeter_band
+    from slicelab.toolpath.raster import rasterize
+    p = slicelab.PrintSettings().pixel_size
+    band = perimeter_band(0.4, 2, 0.15, p)
+    print(f"\nthe ring as a top skin (all of it solid), layer_paths at {p:g} mm pixels (median of {repeat} runs)")
+    print(f"{'radius mm':>10}{'time ms':>10}{'x prev':>8}{'gaps ms':>10}")
+    spent = []
+    f = paths._solid_gaps
+
+    def timed(*a, **k):
+        t = time.perf_counter()
+        try:
+            return f(*a, **k)
+        finally:
+            spent.append(time.perf_counter() - t)
+
+    paths._solid_gaps = timed
+    times, gap_times = [], []
+    try:
+        for radius in RADII:
+            s = ring_section(radius)
+            r = rasterize(s, p, band=band)
+            slicelab.layer_paths(s, 0.4, 2, 0.2, pixel_size=p, raster=r, solid=r.combined())  # warm
+            runs, gaps = [], []
+            for _ in range(repeat):
+                spent.clear()
+                t0 = time.perf_counter()
+                slicelab.layer_paths(s, 0.4, 2, 0.2, pixel_size=p, raster=r, solid=r.combined())
+                runs.append(time.perf_counter() - t0)
+                gaps.append(sum(spent))
+            times.append(statistics.median(runs))
+            gap_times.append(statistics.median(gaps))
+            prev = f"{times[-1] / times[-2]:>8.2f}" if len(times) > 1 else f"{'':>8}"
+            print(f"{radius:>10g}{1000 * times[-1]:>10.1f}{prev}{1000 * statistics.median(gaps):>10.1f}")
+    finally:
+        paths._solid_gaps = f
+    k = np.polyfit(np.log(RADII), np.log(times), 1)[0]
+    k_gaps = np.polyfit(np.log(RADII), np.log(gap_times), 1)[0]
+    print(f"fitted exponents: time ~ radius^{k:.2f}, the gap fill's ~ radius^{k_gaps:.2f} (it works on the dense "
+          "box of the solid region)")
+
+
 def pot_time(repeat: int) -> None:
     """The pot's layer at mid-height with the defaults (0.2 mm pixels), and at 0.1 and 0.05 mm: median times."""
     import slicelab
@@ -159,7 +212,7 @@ def layer_table(repeat: int) -> int:
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--repeat", type=int, default=3)
-    ap.add_argument("--table", choices=("layers", "rings", "all"), default="all")
+    ap.add_argument("--table", choices=("layers", "rings", "skins", "all"), default="all")
     ap.add_argument("--child", nargs=3, metavar=("PATH", "Z", "P"), help=argparse.SUPPRESS)
     args = ap.parse_args(argv)
     if args.child:
@@ -170,6 +223,8 @@ def main(argv=None) -> int:
     if args.table in ("rings", "all"):
         pot_time(args.repeat)
         ring_table(args.repeat)
+    if args.table in ("skins", "all"):
+        skin_table(args.repeat)
     return 0
 
 
