@@ -374,12 +374,14 @@ class BlockGrid:
                     pairs.append(np.stack([np.where(lb == 0, la, 0), side]).reshape(2, -1))
         e = np.concatenate(pairs, axis=1).astype(np.int64) if pairs else np.zeros((2, 0), np.int64)
         e = e[:, (e[0] > 0) & (e[1] > 0)]
-        e = np.unique(e[0] * count + e[1])
+        e = np.sort(e[0] * count + e[1])  # each pair of labels once (sorted, as np.unique gives them)
+        e = e[np.r_[True, e[1:] != e[:-1]]] if len(e) else e
         e = np.stack([e // count, e % count])
         k, glob = graph_components(count, e[0], e[1])
         # Label 0 (background) is a component of its own: renumber so that it stays 0.
         order = np.full(k, -1, np.int64)
         order[glob[0]] = 0
-        rest = np.setdiff1d(np.arange(k), [glob[0]])
+        rest = np.arange(k)
+        rest = rest[rest != glob[0]]
         order[rest] = np.arange(1, len(rest) + 1)
         return order[glob].astype(np.int32 if k < 2 ** 31 else np.int64)[lab], len(rest)

@@ -289,8 +289,15 @@ def _pixels(skel) -> np.ndarray:
     skel = np.asarray(skel)
     if skel.dtype == bool:
         return np.argwhere(skel).astype(np.int64)
-    pts = np.unique(skel.reshape(-1, 2).astype(np.int64), axis=0)  # sorted row-major
-    return pts
+    pts = skel.reshape(-1, 2).astype(np.int64)
+    if len(pts) == 0:
+        return pts
+    # Each pixel once, sorted row-major (np.unique(axis=0) would load numpy.ma): one integer key each.
+    lo = pts.min(axis=0)
+    width = int(pts[:, 1].max() - lo[1]) + 1
+    key = np.sort((pts[:, 0] - lo[0]) * width + (pts[:, 1] - lo[1]))
+    key = key[np.r_[True, key[1:] != key[:-1]]]
+    return np.stack([key // width + lo[0], key % width + lo[1]], axis=1)
 
 
 def skeleton_neighbours(skel: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -331,7 +331,7 @@ def _islands_unreached(raster, t: int, rings: list, field, level: float) -> int:
     """
     members = np.flatnonzero(raster.loop_tile == t)
     islands = raster.loop_island[members] if len(raster.loop_island) else np.zeros(len(members), np.int64)
-    ids = np.unique(islands)
+    ids = np.flatnonzero(np.bincount(islands))  # the islands present (np.unique would load numpy.ma)
     if len(raster.island_boxes):
         r0, c0, r1, c1 = raster.island_boxes[ids].T
     else:  # a raster made without islands: its tile is one box

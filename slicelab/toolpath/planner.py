@@ -452,7 +452,6 @@ def _costliest_first(chunks: list, sections: list, s: PrintSettings) -> list:
 
 def _warm_imports() -> None:
     import cv2  # noqa: F401
-    import numpy.ma  # noqa: F401  (np.unique reads np.ma: 10-14 ms to import in each worker otherwise)
     import shapely  # noqa: F401
 
     from ..geometry.kernels import warm
