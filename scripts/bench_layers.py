@@ -128,23 +128,14 @@ def skin_table(repeat: int) -> None:
     from slicelab.toolpath import paths
     from slicelab.toolpath.perimeters import perimeter_band
     from slicelab.toolpath.raster import rasterize
+    from profile_layers import timing  # (scripts/ is on the path when a script runs)
     p = slicelab.PrintSettings().pixel_size
     band = perimeter_band(0.4, 2, 0.15, p)
     print(f"\nthe ring as a top skin (all of it solid), layer_paths at {p:g} mm pixels (median of {repeat} runs)")
     print(f"{'radius mm':>10}{'time ms':>10}{'x prev':>8}{'gaps ms':>10}")
     spent = []
-    f = paths._solid_gaps
-
-    def timed(*a, **k):
-        t = time.perf_counter()
-        try:
-            return f(*a, **k)
-        finally:
-            spent.append(time.perf_counter() - t)
-
-    paths._solid_gaps = timed
     times, gap_times = [], []
-    try:
+    with timing(paths, "_solid_gaps", lambda a, k, t: spent.append(t)):
         for radius in RADII:
             s = ring_section(radius)
             r = rasterize(s, p, band=band)
@@ -160,8 +151,6 @@ def skin_table(repeat: int) -> None:
             gap_times.append(statistics.median(gaps))
             prev = f"{times[-1] / times[-2]:>8.2f}" if len(times) > 1 else f"{'':>8}"
             print(f"{radius:>10g}{1000 * times[-1]:>10.1f}{prev}{1000 * statistics.median(gaps):>10.1f}")
-    finally:
-        paths._solid_gaps = f
     k = np.polyfit(np.log(RADII), np.log(times), 1)[0]
     k_gaps = np.polyfit(np.log(RADII), np.log(gap_times), 1)[0]
     print(f"fitted exponents: time ~ radius^{k:.2f}, the gap fill's ~ radius^{k_gaps:.2f} (it works on the dense "

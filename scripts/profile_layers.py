@@ -26,6 +26,7 @@ and 99th percentiles. The reference is GEOS's offset, computed in the same run.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import cProfile
 import pstats
 import statistics
@@ -44,31 +45,38 @@ STAGES = [("rasterize", "slicelab.toolpath.planner"), ("layer_skins", "slicelab.
           ("fill_pattern", "slicelab.toolpath.paths"), ("simplify_paths", "slicelab.toolpath.paths")]
 
 
+@contextlib.contextmanager
+def timing(home, name: str, record):
+    """``home.name`` timed while the block runs: ``record(args, kwargs, seconds)`` after each call
+    (a stage is timed in the module its caller looks it up in)."""
+    f = getattr(home, name)
+
+    def timed(*a, **k):
+        t = time.perf_counter()
+        try:
+            return f(*a, **k)
+        finally:
+            record(a, k, time.perf_counter() - t)
+
+    setattr(home, name, timed)
+    try:
+        yield
+    finally:
+        setattr(home, name, f)
+
+
 def stage_times(run, layers: int) -> list[tuple[str, float]]:
     """Milliseconds per layer spent in each stage of `STAGES` during one call of `run`."""
     import importlib
     spent = {name: 0.0 for name, _ in STAGES}
-    saved = []
-    for name, module in STAGES:
-        mod = importlib.import_module(module)
-        # The planner imports its stages inside its run function: wrap them in their own modules.
-        home = mod if hasattr(mod, name) else importlib.import_module(f"slicelab.toolpath.{_HOME[name]}")
-        f = getattr(home, name)
-
-        def timed(*a, _f=f, _name=name, **k):
-            t = time.perf_counter()
-            try:
-                return _f(*a, **k)
-            finally:
-                spent[_name] += time.perf_counter() - t
-
-        saved.append((home, name, f))
-        setattr(home, name, timed)
-    try:
+    with contextlib.ExitStack() as stack:
+        for name, module in STAGES:
+            mod = importlib.import_module(module)
+            # The planner imports its stages inside its run function: wrap them in their own modules.
+            home = mod if hasattr(mod, name) else importlib.import_module(f"slicelab.toolpath.{_HOME[name]}")
+            stack.enter_context(timing(home, name, lambda a, k, t, _name=name: spent.__setitem__(
+                _name, spent[_name] + t)))
         run()
-    finally:
-        for home, name, f in saved:
-            setattr(home, name, f)
     return [(name, 1000 * spent[name] / layers) for name, _ in STAGES]
 
 
@@ -109,22 +117,10 @@ def costs(mesh, s) -> None:
     from slicelab.slicing.sections import slice_layers
     from slicelab.toolpath import paths, planner
     spent = {}
-    f = paths.layer_paths
-
-    def timed(*a, **k):
-        t = time.perf_counter()
-        try:
-            return f(*a, **k)
-        finally:
-            spent[k["layer_index"]] = 1000 * (time.perf_counter() - t)
-
-    paths.layer_paths = timed
-    try:
+    with timing(paths, "layer_paths", lambda a, k, t: spent.__setitem__(k["layer_index"], 1000 * t)):
         planner.plan(mesh, s, workers=1)  # imports, compiled kernels
         spent.clear()
         planner.plan(mesh, s, workers=1)
-    finally:
-        paths.layer_paths = f
     lo, hi = mesh.bounds
     bounds = planner.layer_bounds(float(hi[2] - lo[2]), s.layer_height, s.first_layer_height)
     length, skin = planner._layer_costs(slice_layers(mesh, heights=lo[2] + bounds.mean(axis=1)), s)
