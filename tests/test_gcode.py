@@ -495,10 +495,10 @@ def test_compiled_writer_writes_the_python_bytes(tmp_path, monkeypatch, case, da
     else:
         s = PrintSettings(**FAST, min_layer_time=8, min_print_speed=2, fan_below_layer_time=30)
         p = plan(box((0, 0, 0), (6, 6, 2.4)), s, workers=1)
-    import slicelab.export.gcode as gcode
+    import slicelab.export.layer_inputs as layer_inputs
     runs = []
-    layer_moves = gcode.layer_moves
-    monkeypatch.setattr(gcode, "layer_moves", lambda *a: runs.append(a[4][5]) or layer_moves(*a))
+    layer_moves = layer_inputs.layer_moves
+    monkeypatch.setattr(layer_inputs, "layer_moves", lambda *a: runs.append(a[4][5]) or layer_moves(*a))
     fast, slow = tmp_path / "compiled.gcode", tmp_path / "python.gcode"
     t1 = write_gcode(p, fast, workers=1)
     assert len(runs) >= len(p.layers) - 1  # every layer with paths went through the compiled pass
@@ -514,18 +514,14 @@ def test_compiled_writer_writes_the_python_bytes(tmp_path, monkeypatch, case, da
 
 def test_compiled_writer_leaves_what_it_cannot_write_to_python():
     # A coordinate beyond what it formats (or not finite) leaves the layer to Python's writer.
+    from slicelab.export.layer_inputs import BRIDGE, KIND_INDEX, PERIMETER_KINDS, WORD_AT, WORD_BYTES
     from slicelab.export.text_kernels import layer_moves
-    words = [f";TYPE:{STYLES[k].gcode_type}\n".encode() for k in STYLES]
-    word_bytes = np.frombuffer(b"".join(words), np.uint8).copy()
-    word_at = np.r_[0, np.cumsum([len(w) for w in words])].astype(np.int64)
-    perimeter = np.array([k in ("external", "hole", "internal") for k in STYLES])
     f = np.frombuffer(b"9000", np.uint8).copy()
     for bad in (1e20, np.nan, np.inf):
         xy = np.array([[0.0, 0.0], [bad, 1.0]])
-        out, size, _, _ = layer_moves(xy, np.array([2]), np.array([4]), np.full(2, 0.4), np.r_[0.2, 0.2, 0.05,
-                                      np.zeros(14)], np.full(len(STYLES), 50.0), perimeter,
-                                      list(STYLES).index("bridge"), word_bytes, word_at, f, f, np.zeros(3),
-                                      np.zeros(3), True)
+        out, size, _, _ = layer_moves(xy, np.array([2]), np.array([KIND_INDEX["external"]]), np.full(2, 0.4),
+                                      np.r_[0.2, 0.2, 0.05, np.zeros(14)], np.full(len(STYLES), 50.0),
+                                      PERIMETER_KINDS, BRIDGE, WORD_BYTES, WORD_AT, f, f, np.zeros(3), np.zeros(3), True)
         assert size == -1
 
 

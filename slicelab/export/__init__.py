@@ -5,6 +5,8 @@
 ``export.meshes``           `write_mesh`: STL whose report is the check of the file
 ``export.svg``              `SvgDrawing`: the one SVG writer of every drawing
 ``export.gcode``            G-code and per-layer SVGs of a print plan
+``export.layer_inputs``     a layer's arrays and the settings' numbers for the compiled G-code pass
+``export.text_kernels``     the compiled pass: a layer's G-code text, filament and time
 ==========================  =====================================================
 """
 from __future__ import annotations

@@ -33,14 +33,11 @@ from ..toolpath.settings import settings_dict
 from ..toolpath.printers import MARLIN_END, MARLIN_START, render_gcode
 from ..toolpath.roles import STYLES
 from .files import atomic_open
-from .text_kernels import fixed, layer_moves
+from .layer_inputs import SMALL_PERIMETER, CompiledLayer, WriterSettings, kind_speeds
+from .text_kernels import fixed
 from .svg import SvgDrawing
 
 __all__ = ["write_gcode", "gcode_lines", "write_svgs", "layer_fan"]
-
-
-#: Perimeter loops shorter than this (mm), a circle of radius 6.5 mm, are small (PrusaSlicer's rule).
-SMALL_PERIMETER = 2 * math.pi * 6.5
 
 
 #: One extrusion move as written.
@@ -206,123 +203,48 @@ def _layer_blocks(plan, starts: list, workers: int, compiled: bool = True):
 def _format_run(ks: list, layers: list, heights: list, s, off, starts: list, compiled: bool = True) -> list:
     """The (text, seconds, filament) of some layers, each from its start (`_layer_starts`): its
     inputs come as arguments, so a pool's worker needs nothing from its parent."""
-    fixed_inputs = _WriterSettings(s) if compiled else None
+    fixed_inputs = WriterSettings.of(s) if compiled else None
     return [_layer_block(k, lp, h, s, off, pos, at, fixed_inputs)
             for k, lp, h, (pos, at) in zip(ks, layers, heights, starts)]
 
 
-def _layer_block(k: int, lp, h: float, s, off, pos, at, fixed_inputs: "_WriterSettings | None" = None) \
+def _layer_block(k: int, lp, h: float, s, off, pos, at, fixed_inputs: WriterSettings | None = None) \
         -> tuple[str, float, float]:
     """One layer's G-code (without its header; its fan as a marker), its time and filament.
 
     Written at full speed first; a layer quicker than `min_layer_time` is written again slower,
     so that it has time to cool before the next one is laid on it. The compiled writer
     (`slicelab.export.text_kernels.layer_moves`) writes it when it can and `fixed_inputs` are
-    given, else Python, the same bytes.
+    given, else Python: the same bytes.
     """
-    fast = None if fixed_inputs is None else _LayerKernel.of(k, lp, h, fixed_inputs, off, pos, at)
+    fast = None if fixed_inputs is None else CompiledLayer.of(k, lp, h, fixed_inputs, off, pos, at)
     if fast is not None:
-        text, used, t = fast.run(1.0, True)
-        factor = 1.0
-        for _ in range(4):  # as below
-            if k == 0 or t >= 0.99 * s.min_layer_time or factor * s.min_layer_time <= 0:
-                break
-            factor *= t / s.min_layer_time
-            _, used, t = fast.run(factor, False)
-        if factor < 1:
-            text, used, t = fast.run(factor, True)
-        if text is not None:
-            return text, t, used
+        out = _slowed(fast.run, k, s)
+        if out is not None:
+            return out
+    return _slowed(lambda factor, text: _python_layer(k, lp, h, s, off, pos, at, factor, text), k, s)
+
+
+def _python_layer(k: int, lp, h: float, s, off, pos, at, factor: float, text: bool):
+    """(text, filament, seconds) of a layer written by Python at extrusion speeds times `factor`."""
     moves = _Moves(at)
-    text, used = _layer_gcode(k, lp, h, s, off, moves, pos, 1.0)
-    t = moves.seconds(s)
+    written, used = _layer_gcode(k, lp, h, s, off, moves, pos, factor, text=text)
+    return written, used, moves.seconds(s)
+
+
+def _slowed(run, k: int, s):
+    """A layer's (text, seconds, filament) from ``run(factor, text) -> (text, filament, seconds)``,
+    at full speed or slowed to take `min_layer_time`; None if `run` gives no text."""
+    text, used, t = run(1.0, True)
     factor = 1.0
     for _ in range(4):  # travel and acceleration do not slow in step: a few rounds, moves only
         if k == 0 or t >= 0.99 * s.min_layer_time or factor * s.min_layer_time <= 0:
             break
         factor *= t / s.min_layer_time
-        moves = _Moves(at)
-        _, used = _layer_gcode(k, lp, h, s, off, moves, pos, factor, text=False)
-        t = moves.seconds(s)
+        _, used, t = run(factor, False)
     if factor < 1:  # the text once, at the speed found
-        moves = _Moves(at)
-        text, used = _layer_gcode(k, lp, h, s, off, moves, pos, factor)
-        t = moves.seconds(s)
-    return text, t, used
-
-
-#: Every kind's index in the compiled writer's tables, and its ``;TYPE:`` lines as bytes.
-_KIND_INDEX = {kind: i for i, kind in enumerate(STYLES)}
-_WORDS = [f";TYPE:{STYLES[kind].gcode_type}\n".encode("ascii") for kind in STYLES]
-_WORD_BYTES = np.frombuffer(b"".join(_WORDS), np.uint8).copy()
-_WORD_AT = np.concatenate([[0], np.cumsum([len(w) for w in _WORDS])]).astype(np.int64)
-_PERIMETER = np.array([kind in ("external", "hole", "internal") for kind in STYLES])
-_BRIDGE = _KIND_INDEX["bridge"]
-
-
-def _speeds(s) -> dict:
-    """Each kind's print speed (mm/s)."""
-    return {"external": s.external_perimeter_speed, "internal": s.perimeter_speed,
-            "hole": s.external_perimeter_speed, "gap_fill": s.gap_fill_speed, "sparse": s.infill_speed,
-            "solid": s.solid_infill_speed, "top": s.top_solid_infill_speed, "bridge": s.bridge_speed,
-            "support": s.support_speed, "support_interface": s.support_speed,
-            "overhang": s.bridge_speed,
-            "skirt": s.first_layer_speed, "brim": s.first_layer_speed}
-
-
-class _WriterSettings:
-    """The settings as the compiled writer takes them, made once for many layers."""
-
-    def __init__(self, s):
-        speeds = _speeds(s)
-        self.speeds = np.array([float(speeds[kind]) for kind in STYLES])
-        self.travel = f"{60 * s.travel_speed:.0f}"
-        self.numbers = [0.0, 0.0, s.extrusion_multiplier / s.filament_area, float(s.bridge_flow_ratio),
-                        0.0, 1.0, float(s.small_perimeter_speed), float(s.min_print_speed),
-                        float(s.first_layer_speed), round(60 * s.travel_speed) / 60,
-                        round(60 * s.retraction_speed) / 60, float(s.retraction_length), float(s.z_lift),
-                        float(s.retract_min_travel), SMALL_PERIMETER, float(s.acceleration), float(s.jerk)]
-        self.travel_f = np.frombuffer(self.travel.encode("ascii"), np.uint8).copy()
-        self.retract_f = np.frombuffer(f"{60 * s.retraction_speed:.0f}".encode("ascii"), np.uint8).copy()
-
-
-class _LayerKernel:
-    """A layer's inputs to the compiled writer (`layer_moves`), made once for its runs at several speeds."""
-
-    @classmethod
-    def of(cls, k: int, lp, h: float, w: _WriterSettings, off, pos, at):
-        """The layer's inputs, or None if the compiled writer does not take it (no paths, a path
-        of one point): Python writes those."""
-        pieces = list(lp.pieces())
-        if not pieces or any(len(q[1]) < 2 for q in pieces):
-            return None
-        self = cls()
-        self.w = w
-        z = lp.z + 0.0
-        self.head = f"G1 Z{z:.3f} F{w.travel}\n"
-        self.counts = np.array([len(q[1]) for q in pieces], np.int64)
-        self.kind = np.array([_KIND_INDEX[q[0]] for q in pieces], np.int64)
-        self.xy = np.ascontiguousarray(np.concatenate([q[1] for q in pieces]) + off[:2], np.float64)
-        self.width = np.concatenate([np.full(m, q[2], np.float64) if np.isscalar(q[2]) else
-                                     np.asarray(q[2], np.float64) for m, q in zip(self.counts.tolist(), pieces)])
-        self.numbers = np.array(w.numbers)
-        self.numbers[:2] = z, h
-        self.numbers[4] = 1.0 if k == 0 else 0.0
-        self.start = np.array([float(v) for v in np.asarray(at, np.float64)[:3]])
-        self.pos = np.zeros(3) if pos is None else np.array([float(pos[0]), float(pos[1]), 1.0])
-        return self
-
-    def run(self, factor: float, text: bool):
-        """(text or None, filament, seconds) at extrusion speeds times `factor`; the text is
-        None if a number could not be written here (Python writes the layer then)."""
-        self.numbers[5] = factor
-        w = self.w
-        out, size, used, t = layer_moves(self.xy, self.counts, self.kind, self.width, self.numbers, w.speeds,
-                                         _PERIMETER, _BRIDGE, _WORD_BYTES, _WORD_AT, w.travel_f, w.retract_f,
-                                         self.start, self.pos, bool(text))
-        if size < 0:
-            return None, used, t
-        return (self.head + out[:size].tobytes().decode("ascii") if text else ""), used, t
+        text, used, t = run(factor, True)
+    return None if text is None else (text, t, used)
 
 
 def _fan_command(percent: int) -> str:
@@ -361,7 +283,7 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
     over paths only writes their headers and travels.
     """
     k_e = s.extrusion_multiplier / s.filament_area
-    speeds = _speeds(s)
+    speeds = kind_speeds(s)
     travel_feed, retract_feed = round(60 * s.travel_speed) / 60, round(60 * s.retraction_speed) / 60
     retract, lift, min_travel = s.retraction_length, s.z_lift, s.retract_min_travel
     first_speed, small_speed, min_speed = s.first_layer_speed, s.small_perimeter_speed, s.min_print_speed
