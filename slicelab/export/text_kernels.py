@@ -358,10 +358,12 @@ def layer_moves(xy, counts, kind, width, numbers, speeds, perimeter, bridge, wor
     newline = np.array([10], np.uint8)
     fan_back = np.array([0, 70, 65, 78, 0], np.uint8)  # NUL FAN NUL
     fan_full = np.array([77, 49, 48, 54, 32, 83, 50, 53, 53, 10], np.uint8)  # M106 S255
+    # The words as ASCII codes (a compiled module holds no byte strings): "G1 E", "G1 Z", "G0 X", "G1 X",
+    # " Y", " E", and the ends " F<travel feed>" and " F<retraction feed>" with their newlines.
     g1_e, g1_z, g0_x, g1_x = (np.array([71, 49, 32, 69], np.uint8), np.array([71, 49, 32, 90], np.uint8),
                               np.array([71, 48, 32, 88], np.uint8), np.array([71, 49, 32, 88], np.uint8))
     sp_y, sp_e = np.array([32, 89], np.uint8), np.array([32, 69], np.uint8)
-    travel_end = np.concatenate((np.array([32, 70], np.uint8), travel_f, newline))  # " F<travel>"
+    travel_end = np.concatenate((np.array([32, 70], np.uint8), travel_f, newline))
     retract_end = np.concatenate((np.array([32, 70], np.uint8), retract_f, newline))
     width_head = np.array([59, 87, 73, 68, 84, 72, 58], np.uint8)  # ;WIDTH:
     width_tail = np.array([10, 71, 49, 32, 70], np.uint8)  # newline, G1 F
