@@ -189,30 +189,26 @@ def _cut(vertex: np.ndarray, corners2: np.ndarray, dist: np.ndarray, plane: np.n
     p0 = edge_points(corners2, dist, rows, b_start, a_start)
     p1 = edge_points(corners2, dist, rows, b_end, a_end)
 
-    # Keys: (above vertex, below vertex, plane); a point on an above corner in the plane is keyed
-    # by that vertex twice, which no edge (two distinct vertices) can match. One integer per key
-    # when it fits (hashed as one column), else the three columns.
+    # Each end's (above vertex, below vertex); a point on an above corner in the plane is keyed by
+    # that vertex twice, which no edge (two distinct vertices) can match.
     flat = vertex.reshape(-1)
-    n_vertices, n_planes = int(flat.max()) + 1 if len(flat) else 1, int(plane.max()) + 1 if len(plane) else 1
 
-    def keys(b, a):
-        above = flat[3 * rows + a]
-        other = flat[3 * rows + np.where(dist[rows, a] == 0, a, b)]
-        if n_vertices * n_vertices * n_planes < 2 ** 62:
-            return (above * n_vertices + other) * n_planes + plane[rows]
-        return np.stack([above, other, plane[rows]], axis=1)
+    def end(b, a):
+        return flat[3 * rows + a], flat[3 * rows + np.where(dist[rows, a] == 0, a, b)]
 
-    ids, _ = exact_ids(np.concatenate([keys(b_start, a_start), keys(b_end, a_end)]))
-    s = len(rows)
+    ends = np.stack([*end(b_start, a_start), *end(b_end, a_end)], axis=1)
+    start_id, end_id = _end_ids(ends, plane[rows], int(flat.max()) + 1 if len(flat) else 1,
+                                int(plane.max()) + 1 if len(plane) else 1)
     # Segments that round to zero length (a corner a hair off the plane, two crossing edges
     # whose points round to that corner) are kept: chaining needs their keys. `_assemble`
     # drops them once the loops are known.
-    return np.stack([p0, p1], axis=1), ids[:s], ids[s:], plane[rows]
+    return np.stack([p0, p1], axis=1), start_id, end_id, plane[rows]
 
 
 def _end_ids(ends: np.ndarray, plane: np.ndarray, n_vertices: int, n_planes: int):
-    """The start and end keys of segments from their ends' (above, other) vertex ids
-    (`slicelab.geometry.slice_kernels.cut_planes`): equal where `_cut`'s are equal."""
+    """The start and end keys of segments from their ends' (above, other) vertex ids, (s, 4)
+    (`_cut`, `slicelab.geometry.slice_kernels.cut_planes`), and their planes: one integer per
+    key when it fits (the chaining hashes them), else the three columns numbered by `exact_ids`."""
     if n_vertices * n_vertices * n_planes < 2 ** 62:  # one integer per key (the chaining hashes them)
         keys = (ends[:, 0::2] * n_vertices + ends[:, 1::2]) * n_planes + plane[:, None]
         return keys[:, 0].copy(), keys[:, 1].copy()
