@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import slicelab
-from slicelab.export.gcode import layer_fan, write_gcode
+from slicelab.export.gcode import layer_fan, layer_texts, write_gcode
 from slicelab.geometry.polygons import Polygon
 from slicelab.samples import box, cube_with_hole
 from slicelab.toolpath.bed import check_bed
@@ -479,6 +479,29 @@ def test_gcode_formatted_by_a_pool_is_the_serial_file(tmp_path):
     t1, t2 = write_gcode(p, one, workers=1), write_gcode(p, two, workers=2)
     assert one.read_bytes() == two.read_bytes()
     assert t1["seconds"] == t2["seconds"] and t1["filament"] == t2["filament"]
+
+
+@pytest.mark.parametrize("workers", [1, 2])
+def test_gcode_formatted_by_the_planners_workers_is_the_writers_file(tmp_path, workers):
+    # The planner's workers format each layer whose start their run of layers tells (layer_texts);
+    # the writer takes those blocks and formats the others: the file read back from disk is the
+    # one it writes alone, and so are its totals.
+    mesh, s = cube_with_hole(), PrintSettings(layer_height=0.2, min_layer_time=30, skirt_loops=1)
+    alone = plan(mesh, s, workers=workers)
+    ahead = plan(mesh, s, workers=workers, layer_text=layer_texts)
+    n = len(ahead.layers)
+    assert not alone.texts and n - (n + 19) // 20 <= len(ahead.texts) < n  # all but each run's first
+    one, two = tmp_path / "alone.gcode", tmp_path / "ahead.gcode"
+    t1, t2 = write_gcode(alone, one), write_gcode(ahead, two)
+    assert one.read_bytes() == two.read_bytes() and t1 == t2
+    # A block formatted from another start than the writer finds is not taken.
+    k = max(ahead.texts)
+    (pos, at), _ = ahead.texts[k]
+    ahead.texts[k] = ((pos, at + 0.5), ("G1 X0 Y0 ; formatted from elsewhere\n", 0.0, 0.0))
+    assert write_gcode(ahead, tmp_path / "stale.gcode") == t1
+    assert (tmp_path / "stale.gcode").read_bytes() == one.read_bytes()
+    # Supports are added to the layers after the workers: nothing is formatted ahead then.
+    assert plan(box((0, 0, 0), (4, 4, 1)), PrintSettings(support="auto"), workers=1, layer_text=layer_texts).texts == {}
 
 
 @pytest.mark.parametrize("case", ["cube", "bridge", "slowed"])

@@ -37,7 +37,7 @@ from .layer_inputs import SMALL_PERIMETER, CompiledLayer, WriterSettings, kind_s
 from .text_kernels import fixed
 from .svg import SvgDrawing
 
-__all__ = ["write_gcode", "gcode_lines", "write_svgs", "layer_fan"]
+__all__ = ["write_gcode", "gcode_lines", "write_svgs", "layer_fan", "layer_texts"]
 
 
 #: One extrusion move as written.
@@ -82,7 +82,7 @@ class _Moves:
         return float(t.sum())
 
 
-def gcode_lines(plan, totals: dict | None = None, *, workers: int = 1, compiled: bool = True):
+def gcode_lines(plan, totals: dict | None = None, *, workers: int | None = 1, compiled: bool = True):
     """Yield the G-code text in blocks (header, each layer, end, the totals).
 
     Parameters
@@ -92,8 +92,10 @@ def gcode_lines(plan, totals: dict | None = None, *, workers: int = 1, compiled:
         Filled at the end with ``seconds`` (the estimated print time) and
         ``filament`` (mm), as the file's last lines say, and ``layer_seconds``
         (each layer's time, slowed to `min_layer_time` where needed).
-    workers : int, default 1
-        Processes formatting the layers; the text is the same for any number.
+    workers : int or None, default 1
+        Processes formatting the layers; None: all cores when the layers left to format (those
+        not formatted ahead, `layer_texts`) are worth a pool (`_pooled`). The text is the same
+        for any number.
     compiled : bool, default True
         Layers written by the compiled pass (`slicelab.export.text_kernels.layer_moves`);
         False writes every layer with Python, the same bytes, a few times slower.
@@ -150,54 +152,134 @@ def _layer_starts(plan) -> list:
     the nozzle at the origin.
     """
     off = plan.offset
-    pos, at = None, np.zeros(3)
+    start = (None, np.zeros(3))
     out = []
     for lp in plan.layers:  # over layers: a few operations each
-        out.append((pos, at))
-        z = lp.z + 0.0
-        if lp.paths:
-            pos = lp.paths[-1][-1] + off[:2]
-            at = np.round([pos[0], pos[1], z], 3)
-        else:
-            at = np.round([at[0], at[1], z], 3)
-    out.append((pos, at))
+        out.append(start)
+        start = _after(lp, off, start)
+    out.append(start)
     return out
+
+
+def _after(lp, off, start: tuple) -> tuple:
+    """Where the nozzle is after a layer that started at `start` (see `_layer_starts`)."""
+    z = lp.z + 0.0
+    if lp.paths:
+        pos = lp.paths[-1][-1] + off[:2]
+        return pos, np.round([pos[0], pos[1], z], 3)
+    at = start[1]
+    return start[0], np.round([at[0], at[1], z], 3)
+
+
+def layer_texts(first: int, layers: list, heights, settings, offset) -> list:
+    """The G-code of consecutive layers, formatted ahead of `write_gcode` (by the planner's workers).
+
+    A layer's text depends on where the nozzle starts it, the end of the layer
+    before it: each layer after the first whose start these layers tell is
+    formatted (compiled writer), with that start. `write_gcode` takes a block
+    whose start is the one it finds, and formats the others itself.
+
+    Parameters
+    ----------
+    first : int
+        Index of ``layers[0]`` in its plan.
+    layers : list of LayerPaths
+    heights : sequence of float
+        Their thicknesses.
+    settings : PrintSettings
+    offset : (3,) ndarray
+        The plan's translation to the bed (`PrintPlan.offset`).
+
+    Returns
+    -------
+    list
+        Per layer, None or ``(start, (text, seconds, filament))``.
+
+    See Also
+    --------
+    slicelab.toolpath.planner.plan : calls it on each run of layers it plans (``layer_text``).
+
+    Examples
+    --------
+    >>> import slicelab
+    >>> from slicelab.samples import box
+    >>> p = slicelab.plan(box((0, 0, 0), (5, 5, 0.6)), slicelab.PrintSettings(pixel_size=0.1), workers=1)
+    >>> got = layer_texts(0, p.layers, p.heights, p.settings, p.offset)
+    >>> got[0] is None, got[1][1][0].splitlines()[0]   # the first layer's start lies before them
+    (True, 'G1 Z0.400 F9000')
+    """
+    fixed_inputs = WriterSettings.of(settings)
+    out, start = [], None
+    for k, lp, h in zip(range(first, first + len(layers)), layers, heights):  # over layers
+        if start is None:  # the layer before lies elsewhere: where it ends is not known here
+            out.append(None)
+        else:
+            out.append((start, _layer_block(k, lp, float(h), settings, offset, *start, fixed_inputs)))
+        if lp.paths or start is not None:
+            start = _after(lp, offset, start or (None, np.zeros(3)))
+    return out
+
+
+def _same_start(a: tuple, b: tuple) -> bool:
+    """Whether two nozzle starts (`_layer_starts`) are the same."""
+    return (a[0] is None) == (b[0] is None) and (a[0] is None or np.array_equal(a[0], b[0])) \
+        and np.array_equal(a[1], b[1])
 
 
 #: Layers per task when several processes format the G-code.
 _GCODE_RUN = 25
 
 
-def _pooled(plan) -> bool:
-    """Whether formatting the plan is worth a pool: its time in one process, about 0.1 ms a layer
-    and 0.35 us a path point with the compiled writer, above 0.15 s, against some 20 ms to start
-    a pool plus the layers' pickling and the gathering of their text (in one process and with
-    two: the pot's 600 layers and 336,000 points 0.17 and 0.15 s, the block's 300 layers and
-    250,000 points 0.10 and 0.11 s, the teapot's 293 layers 0.07 and 0.08 s)."""
-    points = sum(len(q) for lp in plan.layers for q in lp.paths)  # over paths
-    return len(plan.layers) > 2 * _GCODE_RUN and 1e-4 * len(plan.layers) + 3.5e-7 * points > 0.15
+def _pooled(plan, layers: list | None = None) -> bool:
+    """Whether formatting the plan's layers (all, or those listed) is worth a pool: its time in
+    one process, about 0.1 ms a layer and 0.35 us a path point with the compiled writer, above
+    0.15 s, against some 20 ms to start a pool plus the layers' pickling and the gathering of
+    their text (in one process and with two: the pot's 600 layers and 336,000 points 0.17 and
+    0.15 s, the block's 300 layers and 250,000 points 0.10 and 0.11 s, the teapot's 293 layers
+    0.07 and 0.08 s)."""
+    ks = range(len(plan.layers)) if layers is None else layers
+    points = sum(len(q) for k in ks for q in plan.layers[k].paths)  # over paths
+    return len(ks) > 2 * _GCODE_RUN and 1e-4 * len(ks) + 3.5e-7 * points > 0.15
 
 
 def _layer_blocks(plan, starts: list, workers: int, compiled: bool = True):
-    """Each layer's (text, seconds, filament), in order: formatted here or by a pool of processes."""
+    """Each layer's (text, seconds, filament), in order: formatted ahead (`layer_texts`, when its
+    start is the one found here), here, or by a pool of processes."""
     n = len(plan.layers)
     s, off = plan.settings, plan.offset
-    runs = [range(a, min(n, a + _GCODE_RUN)) for a in range(0, n, _GCODE_RUN)]
+    ahead = getattr(plan, "texts", {}) if compiled else {}
+    ready = {k: got[1] for k, got in ahead.items() if k < n and _same_start(got[0], starts[k])}
+    left = [k for k in range(n) if k not in ready]
+    runs = [left[a:a + _GCODE_RUN] for a in range(0, len(left), _GCODE_RUN)]
 
     def job(run):
-        return (list(run), [plan.layers[k] for k in run], [float(plan.heights[k]) for k in run], s, off,
+        return (run, [plan.layers[k] for k in run], [float(plan.heights[k]) for k in run], s, off,
                 [starts[k] for k in run], compiled)
 
+    def merged(formatted):  # the ready blocks and the formatted ones, in order
+        k = 0
+        for run, blocks in formatted:
+            for j, block in zip(run, blocks):
+                while k < j:
+                    yield ready[k]
+                    k += 1
+                yield block
+                k = j + 1
+        while k < n:
+            yield ready[k]
+            k += 1
+
+    if workers is None:
+        import os
+        workers = (os.cpu_count() or 1) if _pooled(plan, left) else 1
     if workers <= 1 or len(runs) < 2:
-        for run in runs:
-            yield from _format_run(*job(run))
+        yield from merged((run, _format_run(*job(run))) for run in runs)
         return
     from ..toolpath.pool import forked_pool
     with forked_pool(min(workers, len(runs))) as pool:
         # Submitted all at once; taken back in order, so the file is written while later runs format.
-        futures = [pool.submit(_format_run, *job(run)) for run in runs]
-        for fut in futures:
-            yield from fut.result()
+        futures = [(run, pool.submit(_format_run, *job(run))) for run in runs]
+        yield from merged((run, fut.result()) for run, fut in futures)
 
 
 def _format_run(ks: list, layers: list, heights: list, s, off, starts: list, compiled: bool = True) -> list:
@@ -399,9 +481,10 @@ def write_gcode(plan, path, *, workers: int | None = None, compiled: bool = True
     plan : PrintPlan
     path : str or Path
     workers : int, optional
-        Processes formatting the layers (default: all cores for a plan whose
-        formatting takes longer than starting a pool and gathering its text,
-        else 1: see `_pooled`); the file is the same for any number.
+        Processes formatting the layers (default: all cores when the layers
+        left to format, those the planner's workers did not format ahead
+        (`layer_texts`), take longer than starting a pool and gathering its
+        text, else 1: see `_pooled`); the file is the same for any number.
     compiled : bool, default True
         False writes every layer with Python (see `gcode_lines`): the same file.
 
@@ -427,12 +510,10 @@ def write_gcode(plan, path, *, workers: int | None = None, compiled: bool = True
     >>> text.splitlines()[-1], round(totals["seconds"])
     ('; estimated printing time (normal mode) = 20s', 20)
     """
-    import os
-    if workers is None:
-        workers = (os.cpu_count() or 1) if _pooled(plan) else 1
     totals: dict = {}
     with atomic_open(path, "w", encoding="utf-8") as fh:
-        for block in gcode_lines(plan, totals, workers=max(1, int(workers)), compiled=compiled):
+        for block in gcode_lines(plan, totals, workers=None if workers is None else max(1, int(workers)),
+                                 compiled=compiled):
             fh.write(block)
     return totals
 

@@ -254,8 +254,10 @@ def _slice_feasible(inp, p):
 
 
 def _slice_compute(inp, p):
+    from ..export import layer_texts
     from ..toolpath import plan
-    return plan(inp.mesh, _settings(p), workers=p["workers"])
+    # The workers format each layer's G-code as they plan it: the writer then only joins the text.
+    return plan(inp.mesh, _settings(p), workers=p["workers"], layer_text=layer_texts)
 
 
 def _slice_write(pp, inp, p, out):

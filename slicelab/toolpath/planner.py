@@ -23,7 +23,7 @@ import math
 import os
 import sys
 from dataclasses import dataclass, field, replace
-from functools import cached_property
+from functools import cached_property, partial
 
 import numpy as np
 
@@ -80,6 +80,9 @@ class PrintPlan:
         steepest overhang measured (degrees from the vertical, 0 within the threshold).
     seconds : dict
         Time spent slicing and making the paths.
+    texts : dict
+        Layers whose G-code the workers formatted as they planned them (``layer_text``):
+        index -> (the nozzle's start, the layer's block), taken by the G-code writer.
 
     See Also
     --------
@@ -95,6 +98,7 @@ class PrintPlan:
     part_volume: float = 0.0
     seconds: dict = field(default_factory=dict)
     overhangs: np.ndarray = field(default_factory=lambda: np.zeros((0, 6)))
+    texts: dict = field(default_factory=dict, repr=False)
 
     def warnings(self) -> list[dict]:
         """What will not print as planned, each a dict with a ``code`` and a ``message``.
@@ -175,8 +179,9 @@ _RUN = 20  # layers over which the nozzle is carried (seams), the paths' unit of
 _GROUP = 5  # runs per call at most: a worker's call holds the rasters of its layers' neighbours
 
 
-def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, s: PrintSettings):
-    """Toolpaths of layers first..stop-1 of n.
+def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, s: PrintSettings,
+               layer_text=None, heights=None):
+    """Toolpaths of layers first..stop-1 of n (and, given `layer_text`, their text: see `plan`).
 
     `window` maps a layer's index to its section for these layers and the
     `bottom_layers` below and `top_layers` above them (their skins need them);
@@ -260,7 +265,10 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
         lp = replace(lp, z=float(z_tops[k - first]), perimeters=None)
         lp.extruded_area()  # summed here, on all cores: the sums travel with the layer (its cached state)
         out.append((k, lp, areas, held, ov.unheld if ov is not None else ()))
-    return out
+    if layer_text is None:
+        return out
+    texts = layer_text(first, [r[1] for r in out], heights)
+    return [(*r, t) for r, t in zip(out, texts)]
 
 
 def _areas(lp, raster, solid, s: PrintSettings) -> tuple[float, float, float, float]:
@@ -290,7 +298,7 @@ def _areas(lp, raster, solid, s: PrintSettings) -> tuple[float, float, float, fl
 
 
 def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | None = None,
-         progress: bool | None = None) -> PrintPlan:
+         progress: bool | None = None, layer_text=None) -> PrintPlan:
     """Plan a whole print: slice, find skins, make every layer's toolpaths in parallel.
 
     Parameters
@@ -301,6 +309,12 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
         Processes (default: all cores); 1 runs in this process.
     progress : bool, optional
         Show a tqdm bar (default: when stderr is a terminal).
+    layer_text : callable, optional
+        ``layer_text(first, layers, heights, settings, offset)``, called by the workers on each
+        run of layers they plan (a module-level function, as the pool pickles it): what it
+        returns per layer, when not None, goes to `PrintPlan.texts`. The G-code writer's
+        `slicelab.export.gcode.layer_texts` formats their G-code there, on all cores. Not
+        called with supports, which are added to the layers afterwards.
 
     Returns
     -------
@@ -355,10 +369,14 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))
     z_tops = bounds[:, 1]
 
+    heights = bounds[:, 1] - bounds[:, 0]
+    offset = np.array([s.centre[0] - (lo[0] + hi[0]) / 2, s.centre[1] - (lo[1] + hi[1]) / 2, -lo[2]])
+    text = None if layer_text is None or s.support != "off" else partial(layer_text, settings=s, offset=offset)
+
     def job(a, b):
         """The arguments of run a..b-1: its layers and the neighbours its skins look at."""
         lo, hi = max(0, a - s.bottom_layers - 1), min(n, b + s.top_layers)  # (the skins of a - 1 too)
-        return a, b, n, {j: sections[j] for j in range(lo, hi)}, z_tops[a:b], s
+        return a, b, n, {j: sections[j] for j in range(lo, hi)}, z_tops[a:b], s, text, heights[a:b]
 
     results = []
     # Fixed runs of layers, whatever the number of workers: a run carries the nozzle from
@@ -393,11 +411,10 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     overhangs = np.array([r[3] for r in results], np.float64).reshape(-1, 6)
     if s.support != "off":
         layers = _with_supports(layers, sections, [r[4] for r in results], s)
-    heights = bounds[:, 1] - bounds[:, 0]
-    offset = np.array([s.centre[0] - (lo[0] + hi[0]) / 2, s.centre[1] - (lo[1] + hi[1]) / 2, -lo[2]])
+    texts = {r[0]: r[5] for r in results if text is not None and r[5] is not None}
     t2 = time.perf_counter()
     return PrintPlan(s, layers, heights, offset, areas, float(np.sum(areas[:, 0] * heights)),
-                     {"slice": t1 - t0, "paths": t2 - t1}, overhangs)
+                     {"slice": t1 - t0, "paths": t2 - t1}, overhangs, texts)
 
 
 def _with_supports(layers: list, sections: list, unheld: list, s: PrintSettings) -> list:
