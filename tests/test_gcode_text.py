@@ -1,9 +1,11 @@
-"""The compiled G-code text against Python's own formatting, digit for digit, ties and signs included."""
+"""The compiled G-code text and SVG path data against Python's own formatting, digit for digit, ties and signs included."""
 from __future__ import annotations
 
 import numpy as np
+import pytest
 
-from slicelab.export.text_kernels import fixed
+from slicelab.export.svg import SvgDrawing
+from slicelab.export.text_kernels import fixed, path_data
 
 LINE = "G1 X%.3f Y%.3f E%.5f\n"
 
@@ -47,3 +49,38 @@ def test_large_and_unformattable_values():
     for bad in (np.nan, np.inf, -np.inf, 1e20):
         assert fixed(np.array([[0, 0, 0], [bad, 0, 0]])) is None
     assert fixed(np.zeros((1, 3)))[0] == "" and fixed(np.zeros((0, 3)))[0] == ""
+
+
+def _python_path_data(polylines, digits: int, closed: bool) -> str:
+    """SVG path data as Python writes it: each number rounded, formatted, trailing zeros dropped."""
+    def num(v):
+        return f"{v:.{digits}f}".rstrip("0").rstrip(".")
+    parts = []
+    for p in polylines:
+        r = np.round(p, digits) + 0.0
+        if len(r):
+            parts.append("M" + " L".join(num(x) + "," + num(y) for x, y in r.tolist()) + (" Z" if closed else ""))
+    return " ".join(parts)
+
+
+@pytest.mark.parametrize("digits", [1, 3, 4, 6])
+def test_svg_path_data_is_python_text(digits):
+    # Random polylines over eight decades, ties at the digits, numbers rounding to zero from either
+    # side, an empty polyline; drawn on a page whose corner is the origin (no shift), written
+    # compiled by SvgDrawing and by Python above, digit for digit.
+    rng = np.random.default_rng(digits)
+    polys = [rng.normal(0, 10.0 ** rng.integers(-4, 5), (rng.integers(1, 40), 2)) for _ in range(60)]
+    ties = (np.arange(-41, 43, 2) / 2.0 ** (digits + 1)).reshape(-1, 2)  # exact ties at the digits
+    polys += [ties, np.nextafter(ties, np.inf), np.array([[-0.4 * 10.0 ** -digits, 0.5 * 10.0 ** -digits]]),
+              np.zeros((0, 2)), np.array([[123456.789, -98765.4321]])]
+    flip = [np.c_[p[:, 0], -p[:, 1]] for p in polys]  # SvgDrawing's y runs down from the page's top
+    for closed in (False, True):
+        assert SvgDrawing((0, 0, 1, 0), digits=digits).path_data(flip, closed=closed) == \
+            _python_path_data(polys, digits, closed)
+
+
+def test_svg_path_data_leaves_what_it_cannot_write_to_python():
+    assert path_data(np.array([[np.nan, 1.0]]), np.array([0, 1]), 3, False) is None
+    assert path_data(np.array([[1e20, 1.0]]), np.array([0, 1]), 3, False) is None
+    assert path_data(np.array([[1.0, 1.0]]), np.array([0, 1]), 0, False) is None  # digits 0: Python's
+    assert SvgDrawing((0, 0, 1, 0), digits=3).path_data([np.array([[np.nan, -2.0], [1.5, -1.0]])]) == "Mnan,2 L1.5,1"

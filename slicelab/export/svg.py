@@ -89,11 +89,18 @@ class SvgDrawing:
 
     def path_data(self, polylines, *, closed: bool = False) -> str:
         """SVG path data of polylines (``M .. L .. [Z]`` for each)."""
-        parts = []
-        for p in polylines:
-            pts = self._fmt(self._xy(p))
-            if pts:
-                parts.append("M" + " L".join(pts) + (" Z" if closed else ""))
+        from .text_kernels import path_data
+        q = [self._xy(p) for p in polylines]
+        q = [x for x in q if len(x)]
+        if not q:
+            return ""
+        # Every point in one compiled pass (the numbers Python's format gives); Python's own
+        # format where that pass cannot write a value.
+        sizes = np.array([len(x) for x in q])
+        r = np.round(np.concatenate(q), self.digits) + 0.0  # + 0.0: no "-0"
+        parts = path_data(r, np.concatenate([[0], np.cumsum(sizes)]), self.digits, closed)
+        if parts is None:
+            parts = ["M" + " L".join(self._fmt(x)) + (" Z" if closed else "") for x in q]
         return " ".join(parts)
 
     # ---------------------------------------------------------------- elements

@@ -1,4 +1,5 @@
-"""Compiled G-code text: a layer's moves written as Python's ``%.3f`` / ``%.5f`` would, in one pass.
+"""Compiled text: a layer's G-code moves written as Python's ``%.3f`` / ``%.5f`` would, in one pass,
+and SVG path data.
 
 A layer's G-code is mostly lines ``G1 X.. Y.. E..``, some thousands of them, with a
 few headers, travels and retractions between its paths. `layer_moves` writes a whole
@@ -6,7 +7,8 @@ layer (all but its first line) into one byte buffer in a compiled loop
 (`slicelab.geometry.compiled`), byte for byte what `slicelab.export.gcode` writes
 with Python, and gives the layer's filament and time as the Python writer sums them:
 `stream_seconds` is `slicelab.toolpath.estimate.move_times` with numpy's pairwise
-summation. `format_moves` writes the extrusion lines alone. Each number is rounded exactly
+summation. `format_moves` writes the extrusion lines alone, `format_path_data` the path data
+(``M x,y L x,y ...``) of `slicelab.export.svg.SvgDrawing`. Each number is rounded exactly
 (the product by 10^d taken with its rounding error, ties to even, as Python rounds the
 exact binary value), with Python's sign (``-0.000`` for a small negative number); a number
 it cannot write (not finite, or too large) leaves the layer to Python.
@@ -26,7 +28,7 @@ import numpy as np
 
 from ..geometry.compiled import njit
 
-__all__ = ["format_moves", "fixed", "layer_moves", "stream_seconds", "warm"]
+__all__ = ["format_moves", "fixed", "format_path_data", "path_data", "layer_moves", "stream_seconds", "warm"]
 
 #: Veltkamp's splitter for doubles (2^27 + 1).
 _SPLIT = 134217729.0
@@ -136,6 +138,70 @@ def format_moves(values, out, offsets):
         out[pos] = 10
         pos += 1
         offsets[i + 1] = pos
+    return pos
+
+
+@njit(cache=True, nogil=True)
+def _trimmed(out, start, pos):
+    """The end of the number written at out[start:pos] with its fraction's trailing zeros (and a
+    bare point) dropped, as Python's ``.rstrip("0").rstrip(".")`` of a number with decimals."""
+    while pos > start and out[pos - 1] == 48:  # "0"
+        pos -= 1
+    if pos > start and out[pos - 1] == 46:  # "."
+        pos -= 1
+    return pos
+
+
+@njit(cache=True, nogil=True)
+def format_path_data(xy, bounds, digits, scale, closed, out, offsets):
+    """SVG path data ``M x,y L x,y ...`` (and `` Z`` when `closed`) of each polyline, numbers with
+    `digits` decimals (>= 1), trailing zeros dropped.
+
+    Parameters
+    ----------
+    xy : (n, 2) float64 ndarray
+        The polylines' points, one after another (already rounded to `digits`, no -0).
+    bounds : (m + 1,) int64 ndarray
+        Polyline i is ``xy[bounds[i]:bounds[i + 1]]``, of one point or more.
+    digits : int
+    scale : float
+        10^digits.
+    closed : bool
+    out : (k,) uint8 ndarray
+        Room for the text: 2 (24 + digits) bytes a point and 3 a polyline are enough.
+    offsets : (m + 1,) int64 ndarray
+        Filled: polyline i's data is ``out[offsets[i]:offsets[i + 1]]``.
+
+    Returns
+    -------
+    int
+        The text's length, or -1 if a value is not finite or too large to format here.
+    """
+    pos = 0
+    for i in range(len(bounds) - 1):  # over polylines
+        offsets[i] = pos
+        for j in range(bounds[i], bounds[i + 1]):  # over points
+            if j == bounds[i]:
+                out[pos] = 77  # "M"
+                pos += 1
+            else:
+                out[pos] = 32  # " L"
+                out[pos + 1] = 76
+                pos += 2
+            for c in range(2):  # x, y
+                start = pos
+                pos = _put(out, pos, xy[j, c], digits, scale)
+                if pos < 0:
+                    return -1
+                pos = _trimmed(out, start, pos)
+                if c == 0:
+                    out[pos] = 44  # ","
+                    pos += 1
+        if closed:
+            out[pos] = 32  # " Z"
+            out[pos + 1] = 90
+            pos += 2
+    offsets[len(bounds) - 1] = pos
     return pos
 
 
@@ -489,6 +555,28 @@ def fixed(values: np.ndarray) -> tuple[str, np.ndarray] | None:
     return out[:size].tobytes().decode("ascii"), offsets
 
 
+def path_data(xy: np.ndarray, bounds: np.ndarray, digits: int, closed: bool) -> list[str] | None:
+    """Each polyline's SVG path data (see `format_path_data`), or None if a value cannot be
+    formatted here or `digits` is below 1 (the caller formats those with Python).
+
+    Examples
+    --------
+    >>> path_data(np.array([[0.0, 1.5], [2.25, -0.1], [3.0, 4.0]]), np.array([0, 2, 3]), 4, True)
+    ['M0,1.5 L2.25,-0.1 Z', 'M3,4 Z']
+    """
+    if digits < 1:
+        return None
+    v = np.ascontiguousarray(xy, np.float64).reshape(-1, 2)
+    b = np.ascontiguousarray(bounds, np.int64)
+    out = np.empty(2 * (24 + int(digits)) * len(v) + 3 * len(b), np.uint8)
+    offsets = np.zeros(len(b), np.int64)
+    size = format_path_data(v, b, int(digits), float(10 ** int(digits)), bool(closed), out, offsets)
+    if size < 0:
+        return None
+    text = out[:size].tobytes().decode("ascii")
+    return [text[offsets[i]:offsets[i + 1]] for i in range(len(b) - 1)]
+
+
 def warm() -> None:
     """Call the kernel once with the types the writer uses (see `slicelab.geometry.kernels.warm`).
 
@@ -497,6 +585,7 @@ def warm() -> None:
     >>> warm()
     """
     fixed(np.zeros((2, 3)))
+    path_data(np.zeros((2, 2)), np.array([0, 2]), 3, False)
     u8, i64 = np.zeros(1, np.uint8), np.zeros(2, np.int64)
     layer_moves(np.zeros((2, 2)), np.full(1, 2, np.int64), np.zeros(1, np.int64), np.zeros(2), np.zeros(17),
                 np.zeros(1), np.zeros(1, np.bool_), -1, u8, i64, u8, u8, np.zeros(3), np.zeros(3), True)
