@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 import slicelab
-from slicelab.export.gcode import write_gcode, write_svgs
+from slicelab.export.gcode import write_gcode
+from slicelab.export.layer_svgs import write_svgs
 from slicelab.toolpath.planner import PrintSettings, layer_bounds, plan
 from slicelab.viz.layers import preview_png
 from slicelab.samples import cube_with_hole, voxels
@@ -251,6 +252,29 @@ def test_svg_and_png_previews(cube_plan, tmp_path):
     assert "External perimeter" in files[0].read_text()
     preview_png(pp, tmp_path / "p.png", layers=[0, 10])
     assert (tmp_path / "p.png").read_bytes()[:4] == b"\x89PNG"
+
+
+def test_cli_previews_drawn_by_a_pool_are_the_serial_ones(tmp_path, data_dir):
+    # `slicelab slice --preview` on all cores draws the SVGs in a pool of processes, the PNG in one
+    # of them alongside: the files read back from disk are those one process draws, and the PNG
+    # shows the outer perimeters in their colour.
+    import cv2
+    from matplotlib.colors import to_rgb
+
+    from slicelab.toolpath.roles import STYLES
+    folders = {}
+    for workers in ("1", "2"):
+        folders[workers] = tmp_path / workers
+        r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(data_dir / "cube_with_hole.stl"), "-o",
+                            str(tmp_path / f"{workers}.gcode"), "--layer-height", "0.2", "--pixel-size", "0.2",
+                            "--workers", workers, "--preview", str(folders[workers])], capture_output=True, text=True)
+        assert r.returncode == 0, r.stderr
+    one, two = (sorted(folders[w].glob("layer_*.svg")) for w in ("1", "2"))
+    assert len(one) == 100 and [f.name for f in one] == [f.name for f in two]  # 20 mm: more than two runs
+    assert all(a.read_bytes() == b.read_bytes() for a, b in zip(one, two))
+    img = cv2.imread(str(folders["2"] / "preview.png"))[..., ::-1].astype(int)  # read back: RGB
+    outer = np.array(to_rgb(STYLES["external"].plot_colour)) * 255
+    assert np.count_nonzero(np.abs(img - outer).max(axis=2) < 40) > 500
 
 
 def test_cli_slice(tmp_path, data_dir):

@@ -1,4 +1,4 @@
-"""G-code and per-layer SVG output of a print plan.
+"""G-code output of a print plan.
 
 The G-code is Marlin-flavoured and written the way PrusaSlicer writes it, so
 its G-code viewer and OctoPrint read it: absolute XYZ (G90), relative
@@ -10,8 +10,8 @@ line width x layer height x length / filament cross-section (x the extrusion
 multiplier); a travel longer than `retract_min_travel` retracts, lifts the
 nozzle, moves, lowers and primes again. The part-cooling fan is off (M107)
 for the first `fan_off_layers` layers and on at `fan_speed` (M106) from the
-next. The first layer starts with its skirt and brim. The ``;TYPE:`` words and
-the SVG colours come from `slicelab.toolpath.roles.STYLES`; the time is the
+next. The first layer starts with its skirt and brim. The ``;TYPE:`` words
+come from `slicelab.toolpath.roles.STYLES`; the time is the
 sum of every written move's time (`slicelab.toolpath.estimate.move_times`:
 trapezoidal speed profiles at the settings' `acceleration`, junctions at
 `jerk`).
@@ -19,12 +19,12 @@ trapezoidal speed profiles at the settings' `acceleration`, junctions at
 See Also
 --------
 slicelab.toolpath.planner.plan : the print plan written here.
+slicelab.export.layer_svgs.write_svgs : its layers as drawings.
 slicelab.viz.layers.preview_png : a PNG of some layers.
 """
 from __future__ import annotations
 
 import math
-from pathlib import Path
 
 import numpy as np
 
@@ -35,9 +35,8 @@ from ..toolpath.roles import STYLES
 from .files import atomic_open
 from .layer_inputs import SMALL_PERIMETER, CompiledLayer, WriterSettings, kind_speeds
 from .text_kernels import fixed
-from .svg import SvgDrawing
 
-__all__ = ["write_gcode", "gcode_lines", "write_svgs", "layer_fan", "layer_texts"]
+__all__ = ["write_gcode", "gcode_lines", "layer_fan", "layer_texts"]
 
 
 #: One extrusion move as written.
@@ -496,7 +495,7 @@ def write_gcode(plan, path, *, workers: int | None = None, compiled: bool = True
     See Also
     --------
     gcode_lines : the text written.
-    write_svgs : the layers as drawings.
+    slicelab.export.layer_svgs.write_svgs : the layers as drawings.
 
     Examples
     --------
@@ -516,60 +515,3 @@ def write_gcode(plan, path, *, workers: int | None = None, compiled: bool = True
                                  compiled=compiled):
             fh.write(block)
     return totals
-
-
-def _svg_layer(lp, page) -> SvgDrawing:
-    """One layer's drawing: every path at its width, coloured by role, in print order."""
-    svg = SvgDrawing(page, desc=f"slicelab layer z={lp.z:.3f}", digits=3)
-    for kind, path, w in lp.pieces():
-        style = STYLES[kind]
-        svg.path([path], title=style.gcode_type, fill="none", stroke=style.colour, stroke_width=float(np.mean(w)),
-                 stroke_linecap="round", stroke_linejoin="round", stroke_opacity=0.85)
-    return svg
-
-
-def write_svgs(plan, directory) -> list:
-    """One SVG per layer (true scale, paths drawn at their widths, coloured by role).
-
-    Every layer is drawn on the same page: the box of all the paths (part
-    coordinates, mm) widened by 2 mm.
-
-    Parameters
-    ----------
-    plan : PrintPlan
-    directory : str or Path
-        Created if missing.
-
-    Returns
-    -------
-    list of Path
-        The files written, bottom layer first.
-
-    See Also
-    --------
-    write_gcode : the same paths as G-code.
-    slicelab.export.svg.SvgDrawing : the SVG writer.
-
-    Examples
-    --------
-    >>> import slicelab, tempfile
-    >>> from slicelab.samples import box
-    >>> p = slicelab.plan(box((0, 0, 0), (5, 5, 0.6)), slicelab.PrintSettings(pixel_size=0.1), workers=1)
-    >>> files = write_svgs(p, tempfile.mkdtemp())
-    >>> len(files), files[0].name, "<title>External perimeter</title>" in files[0].read_text()
-    (3, 'layer_0000_z0.200.svg', True)
-    """
-    d = Path(directory)
-    d.mkdir(parents=True, exist_ok=True)
-    pts = [q for lp in plan.layers for _, q, _ in lp.ordered()]
-    if not pts:
-        return []
-    allp = np.concatenate(pts)
-    lo, hi = allp.min(axis=0) - 2, allp.max(axis=0) + 2
-    width = max(4, len(str(len(plan.layers))))
-    written = []
-    for k, lp in enumerate(plan.layers):  # over layers
-        path = d / f"layer_{k:0{width}d}_z{lp.z:.3f}.svg"
-        _svg_layer(lp, (lo[0], lo[1], hi[0], hi[1])).write(path)
-        written.append(path)
-    return written

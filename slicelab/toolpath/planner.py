@@ -86,7 +86,7 @@ class PrintPlan:
 
     See Also
     --------
-    slicelab.export.gcode.write_gcode, slicelab.export.gcode.write_svgs : the plan written out.
+    slicelab.export.gcode.write_gcode, slicelab.export.layer_svgs.write_svgs : the plan written out.
     slicelab.viz.layers.preview_png, slicelab.viz.layers.plan_3d : pictures of its layers.
     """
 
@@ -323,7 +323,7 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     See Also
     --------
     slicelab.toolpath.paths.layer_paths : one layer's toolpaths.
-    slicelab.export.gcode.write_gcode, slicelab.export.gcode.write_svgs : the plan written out.
+    slicelab.export.gcode.write_gcode, slicelab.export.layer_svgs.write_svgs : the plan written out.
     slicelab.viz.layers.preview_png : a picture of some layers.
 
     Examples

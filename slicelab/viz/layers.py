@@ -238,7 +238,7 @@ def preview_png(plan, path, layers=None, *, dpi: int = 110) -> None:
     See Also
     --------
     plan_3d : the layers in 3-D.
-    slicelab.export.gcode.write_svgs : every layer at true scale.
+    slicelab.export.layer_svgs.write_svgs : every layer at true scale.
 
     Examples
     --------
@@ -284,7 +284,9 @@ def preview_png(plan, path, layers=None, *, dpi: int = 110) -> None:
         ax.set_title(f"layer {k}, z = {lp.z:.2f} mm", fontsize=9)
     for ax in axs.ravel()[len(layers):]:
         ax.axis("off")
-    fig.tight_layout()
+    # Fixed margins: `tight_layout` draws the figure once more to measure its labels (half the time).
+    w, h = fig.get_size_inches()
+    fig.subplots_adjust(left=0.55 / w, right=1 - 0.15 / w, bottom=0.35 / h, top=1 - 0.3 / h, wspace=0.3, hspace=0.3)
     with atomic_open(path, "wb") as fh:
         fig.savefig(fh, format="png", dpi=dpi)
     plt.close(fig)
