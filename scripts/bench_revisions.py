@@ -15,7 +15,10 @@ kind in `../shared/meshes/defects`, with ``--repair``: a change that should not 
 checked on real defective inputs too (a refusal counts as the same when both trees refuse with
 the same message).
 
-    python scripts/bench_revisions.py REV [--repeat 3] [--mesh FILE ...] [--defects K]
+``--preview`` has both trees draw their previews too (an SVG per layer, compared byte for byte
+with the G-code, and a PNG).
+
+    python scripts/bench_revisions.py REV [--repeat 3] [--mesh FILE ...] [--defects K] [--preview]
 """
 from __future__ import annotations
 
@@ -86,6 +89,8 @@ def main(argv=None) -> int:
     ap.add_argument("--mesh", type=Path, action="append", help="a part to run instead of the set (repeatable)")
     ap.add_argument("--defects", type=int, default=0, metavar="K",
                     help="PrusaSlicer's test parts and K meshes of each kind of defect instead, with --repair")
+    ap.add_argument("--preview", action="store_true",
+                    help="both trees draw the previews too (--preview DIR); their SVGs are compared as well")
     args = ap.parse_args(argv)
     parts = [(m.name, m, None, False) for m in args.mesh] if args.mesh else PARTS
     if args.defects:
@@ -108,17 +113,29 @@ def main(argv=None) -> int:
                 continue
             runs = {name: [] for name in trees}
             outs = {name: work / f"{i}.gcode" for i, name in enumerate(trees)}
+            shown = {name: work / f"{i}_preview" for i, name in enumerate(trees)}
+
+            def command(name):
+                cmd = slice_command(mesh, outs[name], scale, support) + extra
+                return cmd + (["--preview", str(shown[name])] if args.preview else [])
+
             refused = {}
             for name, tree in trees.items():  # untimed: bytecode and caches, as a user's second run
                 outs[name].unlink(missing_ok=True)
-                refused[name] = timed(slice_command(mesh, outs[name], scale, support) + extra, tree, True)[1]
+                shutil.rmtree(shown[name], ignore_errors=True)
+                refused[name] = timed(command(name), tree, True)[1]
             for _ in range(args.repeat):
                 for name, tree in trees.items():
-                    runs[name].append(timed(slice_command(mesh, outs[name], scale, support) + extra, tree, True)[0])
+                    runs[name].append(timed(command(name), tree, True)[0])
             if any(refused.values()):
                 verdict = "refused alike" if refused["this tree"] == refused[args.rev] else "DIFFERS"
             else:
-                verdict = "same" if outs["this tree"].read_bytes() == outs[args.rev].read_bytes() else "DIFFERS"
+                same = outs["this tree"].read_bytes() == outs[args.rev].read_bytes()
+                if args.preview:  # every layer's SVG too (the PNG is a picture: not compared)
+                    a, b = (sorted(shown[name].glob("*.svg")) for name in trees)
+                    same = same and [f.name for f in a] == [f.name for f in b] and \
+                        all(x.read_bytes() == y.read_bytes() for x, y in zip(a, b))
+                verdict = "same" if same else "DIFFERS"
             tally[verdict] += 1
             med = {name: statistics.median(ts) if ts else float("nan") for name, ts in runs.items()}
             print(f"{label:<26}" + "".join(f"{name}: {min(ts, default=float('nan')):6.2f} / {med[name]:6.2f}   "

@@ -25,9 +25,11 @@ tiny moves). A summary table ends the run, with the floor of any Python slicer's
 process that imports the libraries a slice needs and does nothing else. Cost: linear in the layers; a layer's cost follows
 its boundary (`scripts/bench_layers.py` prints the growth). PrusaSlicer is Debian's
 `prusa-slicer` (`apt-get install -y prusa-slicer`); the comparison is skipped with a note when it
-is absent. The machine is shared, so timings are noisy.
+is absent. The machine is shared, so timings are noisy. ``--preview`` has slicelab draw its
+previews too, as a user asking for them does (an SVG per layer and a PNG of four layers,
+`slicelab slice --preview DIR`); PrusaSlicer writes its G-code only.
 
-    python scripts/bench_slice.py [--mesh FILE ...] [--workers N] [--repeat 1]
+    python scripts/bench_slice.py [--mesh FILE ...] [--workers N] [--repeat 1] [--preview]
 """
 from __future__ import annotations
 
@@ -195,6 +197,8 @@ def bench_part(label: str, mesh: Path, scale: float | None, args, prusa: str | N
         cmd += ["--pixel-size", str(args.pixel_size)]
     if args.workers:
         cmd += ["--workers", str(args.workers)]
+    if args.preview:
+        cmd += ["--preview", str(tmp / "preview")]
     print(f"\n=== {label}: {mesh.name}" + (f" x {factor[0]}" if factor else ""))
     theirs = tmp / "prusa.gcode"
     pcmd = [prusa, "--export-gcode", "--layer-height", str(LAYER), "--first-layer-height", str(LAYER),
@@ -266,12 +270,14 @@ def main(argv=None) -> int:
     ap.add_argument("--workers", type=int, default=None)
     ap.add_argument("--pixel-size", type=float, default=None, help="default: slicelab's own")
     ap.add_argument("--repeat", type=int, default=1, help="alternating runs per tool (median wall time)")
+    ap.add_argument("--preview", action="store_true", help="slicelab draws its previews too (--preview DIR)")
     args = ap.parse_args(argv)
     parts = [(m.name, m, None, False) for m in args.mesh] if args.mesh else PARTS
     prusa = shutil.which("prusa-slicer") or shutil.which("prusaslicer")
     print(f"{LAYER} mm layers, {WIDTH} mm lines, {PERIMETERS} perimeters, {INFILL}% infill, {SOLID} top/bottom "
           f"layers; {os.cpu_count()} cores, shared machine (noisy timings); {args.repeat} alternating run(s) "
-          f"per tool, medians compared")
+          f"per tool, medians compared" + ("; slicelab draws its previews too (--preview), PrusaSlicer writes "
+                                           "G-code only" if args.preview else ""))
     if prusa is None:
         print("prusa-slicer is not installed (apt-get install -y prusa-slicer): no comparison")
     # One untimed run first, as a user's first run after installing: it writes the modules' bytecode

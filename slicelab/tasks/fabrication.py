@@ -264,13 +264,37 @@ def _slice_write(pp, inp, p, out):
     from ..export import write_gcode
     totals = write_gcode(pp, out.path("gcode"), workers=p["workers"])
     if p["preview"]:
-        from ..export import write_svgs
-        from ..viz import preview_png
         if out.folder is None:
             raise ValueError("a preview needs a folder")
-        out.record("svg", write_svgs(pp, out.folder))
-        preview_png(pp, out.path("preview"))
+        out.record("svg", _previews(pp, out.folder, out.path("preview"), p["workers"]))
     return {"results": {"print_time": totals["seconds"], "filament_used": totals["filament"]}}
+
+
+def _previews(pp, folder, png, workers) -> list:
+    """Every layer's SVG in `folder` and the PNG of a few layers, drawn side by side.
+
+    The PNG's process imports matplotlib (a quarter of a second) and draws while
+    the others draw the SVGs; it gets only the layers it draws.
+    """
+    import os
+    from types import SimpleNamespace
+
+    from ..export import write_svgs
+    from ..viz import preview_png
+    workers = (os.cpu_count() or 1) if workers is None else int(workers)
+    n = len(pp.layers)
+    shown = sorted({0, n // 4, n // 2, n - 1}) if n else []
+    if workers <= 1 or n < 2:
+        files = write_svgs(pp, folder, workers=1)
+        preview_png(pp, png, shown)
+        return files
+    from ..toolpath.pool import forked_pool
+    thin = SimpleNamespace(layers=[lp if k in shown else None for k, lp in enumerate(pp.layers)])
+    with forked_pool(workers) as pool:
+        drawn = pool.submit(preview_png, thin, png, shown)
+        files = write_svgs(pp, folder, pool=pool)
+        drawn.result()
+    return files
 
 
 def _slice_report(pp, inp, p):
