@@ -101,3 +101,21 @@ def test_layers_without_svgs(data_dir, tmp_path):
     assert main(["layers", str(data_dir / "cube_with_hole.stl"), "--layer-height", "5", "-o", str(tmp_path),
                  "--no-svg"]) == 0
     assert [p.name for p in tmp_path.iterdir()] == ["layers.json"]
+
+
+@pytest.mark.parametrize("good", [True, False])
+def test_the_console_command_ends_quickly_but_runs_exit_handlers(data_dir, tmp_path, good):
+    # The console command ends its process without the interpreter's teardown: the exit handlers
+    # registered before it still run, what it printed reaches the pipe, and the status is main's.
+    mesh = data_dir / "cube_with_hole.stl" if good else tmp_path / "missing.stl"
+    flag = tmp_path / "handler_ran"
+    code = ("import atexit, sys; from slicelab.cli import run; "
+            f"atexit.register(lambda: open({str(flag)!r}, 'w').write('yes')); "
+            "print('before the command', end=''); sys.argv[0] = 'slicelab'; raise SystemExit(run())")
+    r = subprocess.run([sys.executable, "-c", code, "inspect", "--json", str(mesh)], capture_output=True, text=True)
+    assert r.returncode == (0 if good else 2), r.stderr
+    assert r.stdout.startswith("before the command") and flag.read_text() == "yes"
+    if good:
+        assert json.loads(r.stdout[len("before the command"):])["n_facets"] == 512
+    else:
+        assert r.stderr.startswith("slicelab: error:") and r.stderr.count("\n") == 1

@@ -34,10 +34,10 @@ def test_a_slice_from_built_kernels_is_the_slice_from_numba(tmp_path):
     # The whole command, once from the built module and once from numba's forms alone
     # (SLICELAB_JIT=1): the G-code files read back are the same byte for byte, and the
     # command that used the built module never imported numba.
-    probe = ("import runpy, sys; sys.argv = sys.argv[1:]; "
-             "exec('try:\\n runpy.run_module(\"slicelab\", run_name=\"__main__\")\\n'"
-             "'except SystemExit:\\n pass'); "
-             "print('numba imported:', 'numba' in sys.modules)")
+    # (Said by an exit handler: the command ends its process once it is done, exit handlers run.)
+    probe = ("import atexit, runpy, sys; sys.argv = sys.argv[1:]; "
+             "atexit.register(lambda: print('numba imported:', 'numba' in sys.modules)); "
+             "runpy.run_module('slicelab', run_name='__main__')")
     outs = {}
     for mode in ("0", "1"):
         out = tmp_path / f"jit{mode}.gcode"
@@ -61,6 +61,7 @@ def test_arguments_of_other_types_go_to_numba(restore_kernels):
     wide = np.zeros((400, 4))
     wide[:, :2] = pts
     strided = wide[:, :2]
+    compiled.status()  # the built module's tables loaded (run alone, no kernel has been called yet)
     assert compiled.arguments_key((strided, keep, 0.5)) not in douglas_peucker.table
     assert compiled.arguments_key((pts, keep, 0.5)) in douglas_peucker.table
     expected = douglas_peucker(pts, keep.copy(), 0.5)

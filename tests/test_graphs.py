@@ -133,10 +133,10 @@ def test_a_slice_imports_neither_scipy_nor_scikit_image(tmp_path):
     # Importing either costs a command about 0.25 s: slicing, checking the mesh and planning the
     # print (gap fill's thinning and the islands' components included) do without them, and
     # without numpy.ma (10-14 ms in each worker), which np.unique and np.isin load.
-    probe = ("import runpy, sys; sys.argv = sys.argv[1:]; "
-             "exec('try:\\n runpy.run_module(\"slicelab\", run_name=\"__main__\")\\n'"
-             "'except SystemExit:\\n pass'); "
-             "print('loaded:', sorted(m for m in ('scipy', 'skimage', 'numpy.ma') if m in sys.modules))")
+    # (Said by an exit handler: the command ends its process once it is done, exit handlers run.)
+    probe = ("import atexit, runpy, sys; sys.argv = sys.argv[1:]; "
+             "atexit.register(lambda: print('loaded:', sorted(m for m in ('scipy', 'skimage', 'numpy.ma') "
+             "if m in sys.modules))); runpy.run_module('slicelab', run_name='__main__')")
     from slicelab import save
     from slicelab.samples import box
     wall = tmp_path / "wall.stl"

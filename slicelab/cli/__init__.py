@@ -94,16 +94,37 @@ def main(argv=None) -> int:
 
 
 def run() -> int:
-    """The console command: `main`, then the garbage collector's objects frozen before the exit.
+    """The console command: `main`, then a quick end of the process.
 
-    The interpreter's last collections at exit walk every object the compiled kernels left
-    (hundreds of thousands); frozen, they are skipped, and the command ends about half a
-    second sooner. Only for a process about to end: `main` itself leaves the collector alone.
+    Once `main` has returned, everything the command writes is written and
+    closed, and the process ends. The exit handlers run as at any exit (the
+    process pools', Dask's, temporary directories'), the standard streams are
+    flushed, and the process ends there, without the interpreter's teardown
+    of every module and object: 10-20 ms of each command on this machine
+    (`scripts/bench_revisions.py`, five turns each, medians: the bridge
+    0.38 -> 0.36 s, the mushroom 0.42 -> 0.40 s, the teapot 1.29 -> 1.27 s).
+    While a thread that is not a daemon still runs, the process ends the
+    usual way, which waits for it. The garbage collector's objects are
+    frozen first: its last collection would walk every object the compiled
+    kernels left. An exception `main` does not turn into a status ends the
+    process the usual way, with its traceback.
     """
+    import atexit
     import gc
+    import os
+    import threading
     status = main()
     gc.freeze()
-    return status
+    main_thread = threading.main_thread()
+    if any(t.is_alive() and not t.daemon and t is not main_thread for t in threading.enumerate()):
+        return status
+    atexit._run_exitfuncs()
+    for stream in (sys.stdout, sys.stderr):
+        try:
+            stream.flush()
+        except (OSError, ValueError):  # a closed pipe (`slicelab ... | head`): nothing more to say
+            pass
+    os._exit(status)
 
 
 if __name__ == "__main__":  # pragma: no cover
