@@ -31,10 +31,11 @@ _SVG_RUN = 40
 def _svg_layer(lp, page) -> SvgDrawing:
     """One layer's drawing: every path at its width, coloured by role, in print order."""
     svg = SvgDrawing(page, desc=f"slicelab layer z={lp.z:.3f}", digits=3)
-    for kind, path, w in lp.pieces():
-        style = STYLES[kind]
-        svg.path([path], title=style.gcode_type, fill="none", stroke=style.colour, stroke_width=float(np.mean(w)),
-                 stroke_linecap="round", stroke_linejoin="round", stroke_opacity=0.85)
+    pieces = list(lp.pieces())
+    svg.paths([path for _, path, _ in pieces],
+              [(STYLES[kind].gcode_type, {"fill": "none", "stroke": STYLES[kind].colour, "stroke_width": float(np.mean(w)),
+                                          "stroke_linecap": "round", "stroke_linejoin": "round", "stroke_opacity": 0.85})
+               for kind, _, w in pieces])
     return svg
 
 

@@ -89,19 +89,26 @@ class SvgDrawing:
 
     def path_data(self, polylines, *, closed: bool = False) -> str:
         """SVG path data of polylines (``M .. L .. [Z]`` for each)."""
+        return " ".join(d for d in self._each_path_data(polylines, closed) if d)
+
+    def _each_path_data(self, polylines, closed: bool = False) -> list[str]:
+        """Each polyline's path data ("" for one without points)."""
         from .text_kernels import path_data
         q = [self._xy(p) for p in polylines]
-        q = [x for x in q if len(x)]
-        if not q:
-            return ""
+        full = [i for i, x in enumerate(q) if len(x)]
+        out = [""] * len(q)
+        if not full:
+            return out
         # Every point in one compiled pass (the numbers Python's format gives); Python's own
         # format where that pass cannot write a value.
-        sizes = np.array([len(x) for x in q])
-        r = np.round(np.concatenate(q), self.digits) + 0.0  # + 0.0: no "-0"
+        sizes = np.array([len(q[i]) for i in full])
+        r = np.round(np.concatenate([q[i] for i in full]), self.digits) + 0.0  # + 0.0: no "-0"
         parts = path_data(r, np.concatenate([[0], np.cumsum(sizes)]), self.digits, closed)
         if parts is None:
-            parts = ["M" + " L".join(self._fmt(x)) + (" Z" if closed else "") for x in q]
-        return " ".join(parts)
+            parts = ["M" + " L".join(self._fmt(q[i])) + (" Z" if closed else "") for i in full]
+        for i, d in zip(full, parts):
+            out[i] = d
+        return out
 
     # ---------------------------------------------------------------- elements
     @contextlib.contextmanager
@@ -120,6 +127,31 @@ class SvgDrawing:
             return
         inner = f"<title>{_escape(title, quote=False)}</title></path>" if title is not None else None
         self._out.append(f"<path d={_quoted(d)}{_attrs(attrs)}" + (f">{inner}" if inner else "/>"))
+
+    def paths(self, polylines, looks) -> None:
+        """One ``<path>`` per polyline, as `path` draws each alone, its ``(title, attrs)`` from
+        `looks`: the path data of all in one pass, each look's attributes formatted once.
+
+        Examples
+        --------
+        >>> a, b = SvgDrawing((0, 0, 9, 9)), SvgDrawing((0, 0, 9, 9))
+        >>> lines, looks = [np.array([[0, 0], [1, 2]]), np.array([[3, 3], [4, 4]])], [("one", {"stroke": "red"})] * 2
+        >>> a.paths(lines, looks)
+        >>> for q, (title, attrs) in zip(lines, looks):
+        ...     b.path([q], title=title, **attrs)
+        >>> a.to_string() == b.to_string()
+        True
+        """
+        made: dict = {}
+        for d, (title, attrs) in zip(self._each_path_data(polylines), looks):  # over paths
+            if not d:
+                continue
+            key = (title, tuple(attrs.items()))
+            tail = made.get(key)
+            if tail is None:
+                inner = f"<title>{_escape(title, quote=False)}</title></path>" if title is not None else None
+                tail = made[key] = _attrs(attrs) + (f">{inner}" if inner else "/>")
+            self._out.append(f"<path d={_quoted(d)}{tail}")
 
     def polyline(self, points, **attrs) -> None:
         """A ``<polyline>``."""
