@@ -254,6 +254,27 @@ def test_svg_and_png_previews(cube_plan, tmp_path):
     assert (tmp_path / "p.png").read_bytes()[:4] == b"\x89PNG"
 
 
+def test_png_preview_draws_the_outer_perimeter_where_it_lies(tmp_path):
+    # Read back from disk, through the panel's extent: the outer perimeter's colour covers the box
+    # of its centre line (0.2 mm inside a 12 mm L of 3 mm arms) and stays out of the L's notch (a
+    # flipped axis would draw an arm there), and reaches the end of each arm.
+    import cv2
+    from slicelab.toolpath.roles import STYLES
+    occ = np.zeros((4, 4, 1), bool)
+    occ[0, :, 0] = occ[:, 0, 0] = True  # an arm up the y axis and one along the x axis
+    pp = plan(voxels(occ, (3.0, 3.0, 1.0)), PrintSettings(pixel_size=0.1, skirt_loops=0), workers=1)
+    layout = preview_png(pp, tmp_path / "p.png", layers=[2], pixels=300)
+    img = cv2.imread(str(tmp_path / "p.png"))[..., ::-1].astype(int)  # RGB
+    colour = np.array([int(STYLES["external"].plot_colour[j:j + 2], 16) for j in (1, 3, 5)])
+    ys, xs = np.nonzero(np.abs(img - colour).max(axis=2) < 30)
+    (px, py, w, h), (x0, x1, y0, y1) = layout["panels"][0], layout["extent"][0]
+    scale = w / (x1 - x0)
+    x, y = x0 + (xs - px) / scale, y1 - (ys - py) / scale  # mm, part coordinates
+    assert np.allclose([x.min(), x.max(), y.min(), y.max()], [0.2, 11.8, 0.2, 11.8], atol=2 / scale)
+    assert not np.any((x > 4) & (x < 11) & (y > 4) & (y < 11))  # the notch
+    assert np.any((x > 11) & (y < 3)) and np.any((x < 3) & (y > 11))  # the arms' ends
+
+
 def test_cli_previews_drawn_by_a_pool_are_the_serial_ones(tmp_path, data_dir):
     # `slicelab slice --preview` on all cores draws the SVGs in a pool of processes, the PNG in one
     # of them alongside: the files read back from disk are those one process draws, and the PNG

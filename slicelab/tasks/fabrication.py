@@ -271,11 +271,8 @@ def _slice_write(pp, inp, p, out):
 
 
 def _previews(pp, folder, png, workers) -> list:
-    """Every layer's SVG in `folder` and the PNG of a few layers, drawn side by side.
-
-    The PNG's process imports matplotlib (a quarter of a second) and draws while
-    the others draw the SVGs; it gets only the layers it draws.
-    """
+    """Every layer's SVG in `folder` and the PNG of a few layers, drawn side by side by a pool:
+    one process draws the PNG (given only the layers it draws) while the others draw the SVGs."""
     import os
     from types import SimpleNamespace
 
