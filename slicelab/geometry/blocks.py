@@ -72,6 +72,19 @@ def blocks_near(segments: np.ndarray, pixel_size: float, size: int, reach: int, 
     return table
 
 
+def _padded(table: np.ndarray, reach: int) -> np.ndarray:
+    """A block table with `reach` rings of empty blocks around it (`np.pad`'s result, without
+    its per-call cost: the grids of every layer are padded several times)."""
+    h, w = table.shape
+    out = np.full((h + 2 * reach, w + 2 * reach), EMPTY, table.dtype)
+    out[reach:reach + h, reach:reach + w] = table
+    return out
+
+
+#: Row and column offsets of a block's eight neighbours and itself, (3, 3) each.
+_DR, _DC = np.mgrid[-1:2, -1:2]
+
+
 @dataclass(frozen=True, eq=False)
 class BlockGrid:
     """Active blocks of a world-anchored pixel grid, and the uniform value of the others.
@@ -147,7 +160,7 @@ class BlockGrid:
         ([[0, 1, 2, -1], [3, 4, 5, -1], [6, 7, 8, -1]], [0, 0, 0, 0, 1, 0, 0, 0, 0])
         """
         import cv2
-        t = np.pad(self.table, reach, constant_values=EMPTY)
+        t = _padded(self.table, reach)
         kind = np.where(t >= 0, 2, np.where(t == FULL, 1, 0)).astype(np.uint8)
         box = np.ones((2 * reach + 1, 2 * reach + 1), np.uint8)
         hi = cv2.dilate(kind, box, borderType=cv2.BORDER_REPLICATE)
@@ -218,11 +231,10 @@ class BlockGrid:
         n = len(self)
         # The table padded with an empty ring, as stack indices (n empty, n + 1 full): each
         # neighbour is then one gather.
-        t = np.pad(self.table, 1, constant_values=EMPTY)
+        t = _padded(self.table, 1)
         t = np.where(t >= 0, t, np.where(t == FULL, n + 1, n))
         r, c = self.rows - self.row0 + 1, self.cols - self.col0 + 1
-        dr, dc = np.mgrid[-1:2, -1:2]
-        return t[r[None, None, :] + dr[..., None], c[None, None, :] + dc[..., None]]
+        return t[r[None, None, :] + _DR[..., None], c[None, None, :] + _DC[..., None]]
 
     def pack(self, data: np.ndarray, halo: int, empty, full) -> np.ndarray:
         """The stack with a halo of `halo` pixels copied from each block's neighbours.

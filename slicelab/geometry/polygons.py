@@ -59,7 +59,7 @@ def loop_hierarchy(loops: list[np.ndarray], areas: np.ndarray | None = None) -> 
         return depth, parent
     from .polygon_kernels import ring_hierarchy
     areas = np.abs(np.array([signed_area(p) for p in loops]) if areas is None else np.asarray(areas, np.float64))
-    bounds = np.r_[0, np.cumsum([len(p) for p in loops])].astype(np.int64)
+    bounds = np.concatenate([[0], np.cumsum([len(p) for p in loops])]).astype(np.int64)
     # One compiled pass: each loop, largest first, counts for the smaller loops whose first vertex
     # (which stands for its loop: the midpoint of its first edge would tie with a touching
     # neighbour as often) lies in its box and in it.

@@ -232,12 +232,12 @@ def _onto_offset(rings: list, level: float, index: SegmentIndex, p: float, toler
     """
     from ..geometry.offset_kernels import onto_offset
     sizes = np.array([len(r) for r in rings])
-    bounds = np.r_[0, np.cumsum(sizes)]
+    bounds = np.concatenate([[0], np.cumsum(sizes)])
     origin, width, height, start, owner, pieces = index.piece_buckets(cell)
     # Vertices within half a pixel of the level are moved; a corner's tip may lie 6 pixels out.
     out, ob = onto_offset(np.concatenate(rings), bounds, float(level), float(tolerance), 0.5 * p, 6 * p,
                           float(cell), int(origin[0]), int(origin[1]), width, height, start, owner, pieces)
-    return np.split(out, ob[1:-1])
+    return [out[a:b] for a, b in zip(ob[:-1].tolist(), ob[1:].tolist())]
 
 
 def level_rings(field: DistanceField, level: float, *, tolerance: float, index: SegmentIndex | None = None,

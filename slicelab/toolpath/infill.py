@@ -210,6 +210,6 @@ def rectilinear(polygons: list[Polygon], spacing: float, angle: float = 45.0, *,
     # The intervals linked into zigzags by one compiled walk, starting at the lowest line.
     pts, bounds = link_zigzags(np.lexsort((f.xc[f.start], f.line)), used, next_c, prev_c, interval_of, other,
                                f.line, f.ring, f.edge, f.t, arc, perim, f.start, f.end, f.xc, f.yc,
-                               np.concatenate(f.rings), np.r_[0, np.cumsum(sizes)], float(max_link))
+                               np.concatenate(f.rings), np.concatenate([[0], np.cumsum(sizes)]), float(max_link))
     inv = f.rot  # rows are the frame axes: frame -> world is p @ rot
     return [pts[a:b] @ inv for a, b in zip(bounds[:-1].tolist(), bounds[1:].tolist())]  # over zigzags

@@ -184,7 +184,8 @@ def _mask_rings(mask) -> list[np.ndarray]:
     rc = np.concatenate(rings)
     xy = np.stack([(c0 + rc[:, 1]) * p, (r0 + rc[:, 0]) * p], 1)
     out = []
-    for ring in np.split(xy, np.cumsum(sizes)[:-1]):  # over rings: the smallest are dropped
+    ends = np.cumsum(sizes).tolist()
+    for ring in (xy[b - k:b] for b, k in zip(ends, sizes.tolist())):  # over rings: the smallest are dropped
         if len(ring) >= 3 and abs(signed_area(ring)) >= 4 * p * p:
             out.append(ring)
     return out

@@ -416,7 +416,7 @@ def rasterize(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margin
         edges = _edges([loops[k] for k in members])
         sizes = np.array([len(loops[k]) for k in members], np.int64)
         from ..geometry.segment_kernels import loops_touch
-        bounds = np.r_[0, np.cumsum(sizes)]
+        bounds = np.concatenate([[0], np.cumsum(sizes)])
         if not loops_touch(np.ascontiguousarray(edges, np.float64), bounds):
             # Loops that nowhere meet: the winding number is the same all along either side of
             # a loop, so a loop bounds material along its whole length, or nowhere (buried in

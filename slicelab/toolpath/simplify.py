@@ -106,12 +106,12 @@ def simplify_paths(paths: list, tolerance: float, widths: list | None = None):
     ends[stops[sizes > 0] - 1] = True
     ends[(stops - sizes)[sizes > 0]] = True
     keep = simplify_mask(pts, ends, tolerance) if tolerance > 0 else np.ones(len(pts), bool)
-    parts = np.split(np.arange(len(pts)), stops[:-1])
-    out = [pts[i[keep[i]]] for i in parts]
+    spans = list(zip((stops - sizes).tolist(), stops.tolist()))
+    out = [pts[a:b][keep[a:b]] for a, b in spans]
     if widths is None:
         return out
     w = np.concatenate([np.broadcast_to(np.asarray(x, np.float64), (n,)) for x, n in zip(widths, sizes)])
-    return out, [w[i[keep[i]]] for i in parts]
+    return out, [w[a:b][keep[a:b]] for a, b in spans]
 
 
 def simplify_path(path: np.ndarray, tolerance: float) -> np.ndarray:
