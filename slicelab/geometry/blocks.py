@@ -205,8 +205,12 @@ class BlockGrid:
         """
         from .kernels import sample_blocks
         rows, cols = np.asarray(rows, np.int64), np.asarray(cols, np.int64)
-        shape = np.broadcast_shapes(rows.shape, cols.shape)
-        rows, cols = (np.ascontiguousarray(np.broadcast_to(a, shape)).reshape(-1) for a in (rows, cols))
+        if rows.shape == cols.shape:  # (most calls: no broadcasting to do)
+            shape = rows.shape
+            rows, cols = np.ascontiguousarray(rows).reshape(-1), np.ascontiguousarray(cols).reshape(-1)
+        else:
+            shape = np.broadcast_shapes(rows.shape, cols.shape)
+            rows, cols = (np.ascontiguousarray(np.broadcast_to(a, shape)).reshape(-1) for a in (rows, cols))
         dtype = data.dtype.type
         out = sample_blocks(self.table, self.row0, self.col0, self.size, np.ascontiguousarray(data), dtype(empty),
                             dtype(full), rows, cols)

@@ -287,8 +287,7 @@ def level_rings(field: DistanceField, level: float, *, tolerance: float, index: 
         return []
     stack = field.blocks if values is None else values
     rings = []
-    found = [np.stack([c[:, 1] * p, c[:, 0] * p], 1) for c in march_blocks(stack, level, g, field.outside, field.deep)
-             if len(c) >= 3]
+    found = [c[:, ::-1] * p for c in march_blocks(stack, level, g, field.outside, field.deep) if len(c) >= 3]
     if values is None and index is not None and len(index) and found:
         found = _onto_offset(found, level, index, p, tolerance, field.deep)
     # Every ring of the level simplified in one compiled pass.

@@ -116,9 +116,15 @@ class LayerRaster:
 
 
 def _edges(loops) -> np.ndarray:
+    """Every loop's edges, (m, 2, 2): each point to the next, the last back to the first."""
+    loops = [lp for lp in loops if len(lp)]
     if not loops:
         return np.zeros((0, 2, 2))
-    return np.concatenate([np.stack([lp, np.concatenate((lp[1:], lp[:1]))], axis=1) for lp in loops])
+    pts = np.concatenate(loops)
+    stops = np.cumsum([len(lp) for lp in loops])
+    nxt = np.arange(1, len(pts) + 1)
+    nxt[stops - 1] = np.concatenate([[0], stops[:-1]])  # (one gather for all loops)
+    return np.stack([pts, pts[nxt]], axis=1)
 
 
 def _crossings(edges: np.ndarray, r_first: int, r_stop: int, pixel_size: float):
