@@ -246,7 +246,7 @@ def _layer_blocks(plan, starts: list, workers: int, compiled: bool = True):
     start is the one found here), here, or by a pool of processes."""
     n = len(plan.layers)
     s, off = plan.settings, plan.offset
-    ahead = getattr(plan, "texts", {}) if compiled else {}
+    ahead = plan.texts if compiled else {}
     ready = {k: got[1] for k, got in ahead.items() if k < n and _same_start(got[0], starts[k])}
     left = [k for k in range(n) if k not in ready]
     runs = [left[a:a + _GCODE_RUN] for a in range(0, len(left), _GCODE_RUN)]

@@ -3,9 +3,9 @@
 Each layer is one SVG file at true scale (mm), every path drawn at its width
 and coloured by its role (`slicelab.toolpath.roles.STYLES`, the colours of
 PrusaSlicer's G-code viewer), in print order. Every layer is drawn on the
-same page, so the files can be flipped through as a stack. A plan of some
-hundred layers takes about a millisecond a layer to draw in one process:
-its runs of layers then go to forked processes, which write their files
+same page, so the files can be flipped through as a stack. A layer takes
+about half a millisecond to draw; a plan of more than some 200 layers has
+its runs of layers drawn by forked processes, which write their files
 themselves (`slicelab.toolpath.pool.forked_pool`).
 
 See Also
@@ -24,7 +24,7 @@ from .svg import SvgDrawing
 
 __all__ = ["write_svgs"]
 
-#: Layers per task when processes draw the layers; fewer layers than two runs are drawn in one.
+#: Layers per task when processes draw the layers.
 _SVG_RUN = 40
 
 
@@ -45,7 +45,7 @@ def _write_run(layers: list, paths: list, page: tuple) -> None:
         _svg_layer(lp, page).write(path)
 
 
-def write_svgs(plan, directory, *, workers: int | None = None, pool=None) -> list:
+def write_svgs(plan, directory, *, workers: int | None = None) -> list:
     """One SVG per layer (true scale, paths drawn at their widths, coloured by role).
 
     Every layer is drawn on the same page: the box of all the paths (part
@@ -58,10 +58,9 @@ def write_svgs(plan, directory, *, workers: int | None = None, pool=None) -> lis
         Created if missing.
     workers : int, optional
         Processes drawing the layers (default: all cores when the plan has more
-        than two runs of `_SVG_RUN` layers, else 1); the files are the same for any number.
-    pool : concurrent.futures.Executor, optional
-        A pool to draw the runs of layers in instead (one of `forked_pool`'s,
-        which may be doing other work too, such as `preview_png`).
+        than five runs of `_SVG_RUN` layers, else 1: below some 200 layers, starting
+        a pool and sending it the layers costs more than it saves); the files are
+        the same for any number.
 
     Returns
     -------
@@ -96,20 +95,14 @@ def write_svgs(plan, directory, *, workers: int | None = None, pool=None) -> lis
     paths = [d / f"layer_{k:0{width}d}_z{lp.z:.3f}.svg" for k, lp in enumerate(plan.layers)]
     runs = [range(a, min(n, a + _SVG_RUN)) for a in range(0, n, _SVG_RUN)]
     if workers is None:
-        workers = (os.cpu_count() or 1) if len(runs) > 2 else 1
-    if pool is None and (workers <= 1 or len(runs) < 2):
+        workers = (os.cpu_count() or 1) if len(runs) > 5 else 1
+    if workers <= 1 or len(runs) < 2:
         _write_run(plan.layers, paths, page)
         return paths
-
-    def draw(ex):
-        futures = [ex.submit(_write_run, [plan.layers[k] for k in run], [paths[k] for k in run], page) for run in runs]
+    from ..toolpath.pool import forked_pool
+    with forked_pool(min(int(workers), len(runs))) as pool:
+        futures = [pool.submit(_write_run, [plan.layers[k] for k in run], [paths[k] for k in run], page)
+                   for run in runs]
         for fut in futures:
             fut.result()
-
-    if pool is not None:
-        draw(pool)
-    else:
-        from ..toolpath.pool import forked_pool
-        with forked_pool(min(int(workers), len(runs))) as own:
-            draw(own)
     return paths

@@ -271,26 +271,11 @@ def _slice_write(pp, inp, p, out):
 
 
 def _previews(pp, folder, png, workers) -> list:
-    """Every layer's SVG in `folder` and the PNG of a few layers, drawn side by side by a pool:
-    one process draws the PNG (given only the layers it draws) while the others draw the SVGs."""
-    import os
-    from types import SimpleNamespace
-
+    """Every layer's SVG in `folder` (on `workers` processes when there are many) and the PNG of a few."""
     from ..export import write_svgs
     from ..viz import preview_png
-    workers = (os.cpu_count() or 1) if workers is None else int(workers)
-    n = len(pp.layers)
-    shown = sorted({0, n // 4, n // 2, n - 1}) if n else []
-    if workers <= 1 or n < 2:
-        files = write_svgs(pp, folder, workers=1)
-        preview_png(pp, png, shown)
-        return files
-    from ..toolpath.pool import forked_pool
-    thin = SimpleNamespace(layers=[lp if k in shown else None for k, lp in enumerate(pp.layers)])
-    with forked_pool(workers) as pool:
-        drawn = pool.submit(preview_png, thin, png, shown)
-        files = write_svgs(pp, folder, pool=pool)
-        drawn.result()
+    files = write_svgs(pp, folder, workers=workers)
+    preview_png(pp, png)
     return files
 
 

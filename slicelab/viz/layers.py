@@ -229,9 +229,9 @@ def preview_png(plan, path, layers=None, *, pixels: int = 400) -> dict:
 
     Composed as a pixel array with OpenCV (`slicelab.viz.canvas`), not a
     matplotlib figure, whose import and layout cost `slicelab slice --preview`
-    some 0.4 s: each panel is framed, with millimetre ticks, and titled with
+    some 0.4 s (measured by hand): each panel is framed, with millimetre ticks, and titled with
     its layer and height; paths are drawn in their roles' colours
-    (`slicelab.toolpath.roles.STYLES`), in print order, over the travel
+    (`slicelab.toolpath.roles.STYLES`), a colour at a time, over the travel
     between them.
 
     Parameters
