@@ -45,6 +45,13 @@ def _attrs(attrs: dict) -> str:
                    for k, v in attrs.items() if v is not None)
 
 
+def _path_tail(title: str | None, attrs: dict) -> str:
+    """What follows a ``<path>``'s data: its attributes, and its title inside it, or its end."""
+    if title is None:
+        return _attrs(attrs) + "/>"
+    return f"{_attrs(attrs)}><title>{_escape(title, quote=False)}</title></path>"
+
+
 def _num(v) -> str:
     return f"{float(v):.6g}"
 
@@ -125,8 +132,7 @@ class SvgDrawing:
         d = self.path_data(polylines, closed=closed)
         if not d:
             return
-        inner = f"<title>{_escape(title, quote=False)}</title></path>" if title is not None else None
-        self._out.append(f"<path d={_quoted(d)}{_attrs(attrs)}" + (f">{inner}" if inner else "/>"))
+        self._out.append(f"<path d={_quoted(d)}{_path_tail(title, attrs)}")
 
     def paths(self, polylines, looks) -> None:
         """One ``<path>`` per polyline, as `path` draws each alone, its ``(title, attrs)`` from
@@ -149,8 +155,7 @@ class SvgDrawing:
             key = (title, tuple(attrs.items()))
             tail = made.get(key)
             if tail is None:
-                inner = f"<title>{_escape(title, quote=False)}</title></path>" if title is not None else None
-                tail = made[key] = _attrs(attrs) + (f">{inner}" if inner else "/>")
+                tail = made[key] = _path_tail(title, attrs)
             self._out.append(f"<path d={_quoted(d)}{tail}")
 
     def polyline(self, points, **attrs) -> None:

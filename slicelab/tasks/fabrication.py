@@ -266,17 +266,11 @@ def _slice_write(pp, inp, p, out):
     if p["preview"]:
         if out.folder is None:
             raise ValueError("a preview needs a folder")
-        out.record("svg", _previews(pp, out.folder, out.path("preview"), p["workers"]))
+        from ..export import write_svgs
+        from ..viz import preview_png
+        out.record("svg", write_svgs(pp, out.folder, workers=p["workers"]))
+        preview_png(pp, out.path("preview"))
     return {"results": {"print_time": totals["seconds"], "filament_used": totals["filament"]}}
-
-
-def _previews(pp, folder, png, workers) -> list:
-    """Every layer's SVG in `folder` (on `workers` processes when there are many) and the PNG of a few."""
-    from ..export import write_svgs
-    from ..viz import preview_png
-    files = write_svgs(pp, folder, workers=workers)
-    preview_png(pp, png)
-    return files
 
 
 def _slice_report(pp, inp, p):
