@@ -13,6 +13,7 @@ import slicelab
 from slicelab.export.gcode import write_gcode
 from slicelab.samples import box, concat, voxels
 from slicelab.toolpath import PrintSettings, plan
+from slicelab.toolpath.overhangs import EDGE_MARGIN
 
 S = dict(pixel_size=0.1, layer_height=0.25, first_layer_height=0.25, skirt_loops=0)
 
@@ -103,15 +104,37 @@ def test_a_steeper_threshold_lets_the_ramp_hold():
     assert pp.warnings() == []
 
 
-def test_a_cantilever_is_an_overhang_not_a_bridge():
-    occ = np.zeros((20, 6, 8), bool)
-    occ[8:12, :, :6] = True  # a stem
-    occ[:, :, 6:] = True  # a bar over it, 8 mm out on each side: a T
-    pp = plan(voxels(occ), PrintSettings(**S), workers=1)
+def _tee():
+    """A 4 x 20 mm stem 6 mm tall under a 20 x 20 x 2 mm bar: arms 8 mm out on each side, a T."""
+    occ = np.zeros((20, 20, 8), bool)
+    occ[8:12, :, :6] = True
+    occ[:, :, 6:] = True
+    return voxels(occ)
+
+
+def test_a_cantilever_is_bridged_out_from_its_anchor_but_for_its_edges():
+    s = PrintSettings(**S)
+    pp = plan(_tee(), s, workers=1)
+    k = int(round(6.0 / 0.25))
+    assert pp.overhangs[k, 2] == 2  # each arm is bridged out from the stem
+    seg = np.concatenate([np.diff(q, axis=0) for kind, q, _ in pp.layers[k].rows({"bridge"})])
+    length = np.hypot(*seg.T)
+    assert length[np.abs(seg[:, 1]) < 1e-6].sum() > 0.8 * length.sum()  # along x: out from the stem
+    # Unheld: a band of the perimeters and EDGE_MARGIN along each arm's three free sides (the
+    # arm hangs from a wall's reach, h tan(50), beyond the stem).
+    b = s.n_perimeters * s.line_width + EDGE_MARGIN
+    arm = 8 - 0.25 * math.tan(math.radians(50))
+    assert pp.overhangs[k, 0] == pytest.approx(2 * (2 * b * arm + b * (20 - 2 * b)), rel=0.1)
+    assert "unsupported_overhang" in [w["code"] for w in pp.warnings()]
+
+
+def test_without_dont_support_bridges_a_cantilever_is_an_overhang_not_a_bridge():
+    pp = plan(_tee(), PrintSettings(**S, dont_support_bridges=False), workers=1)
     k = int(round(6.0 / 0.25))
     assert pp.overhangs[k, 2] == 0
     # About the two arms' area, less the reach a wall holds and a pixel at each edge.
-    assert pp.overhangs[k, 0] == pytest.approx(2 * 8 * 6, rel=0.1)
+    assert pp.overhangs[k, 0] == pytest.approx(2 * 8 * 20, rel=0.1)
+    assert "bridge" not in pp.layers[k].kinds()
     assert "unsupported_overhang" in [w["code"] for w in pp.warnings()]
 
 
@@ -180,7 +203,7 @@ def _support_rows(pp):
 
 
 def test_supports_hold_the_cap_of_a_mushroom(tmp_path):
-    s = PrintSettings(**S, support="auto")
+    s = PrintSettings(**S, support="auto", dont_support_bridges=False)
     pp = plan(mushroom(), s, workers=1)
     rows = _support_rows(pp)
     cap = int(round(6.0 / s.layer_height))  # the cap's first layer
@@ -198,16 +221,45 @@ def test_supports_hold_the_cap_of_a_mushroom(tmp_path):
     # Sparse lines about support_spacing apart: the length laid is about area / spacing.
     # Sparse lines a gap of support_spacing apart, plus a line (along x on even layers): the length
     # laid along them is about the area over that pitch (the links along the outline left out).
-    seg = np.concatenate([np.diff(q, axis=0) for kind, q in rows[2] if kind == "support"])
+    loops = [q for kind, q in rows[2] if kind == "support" and np.array_equal(q[0], q[-1])]
+    seg = np.concatenate([np.diff(q, axis=0) for kind, q in rows[2] if kind == "support" and
+                          not np.array_equal(q[0], q[-1])])
     along = np.abs(seg[:, 1]) < 1e-9
     area = 16 * 16 - (4 + 2 * s.support_xy_gap) ** 2
     assert np.abs(seg[along, 0]).sum() == pytest.approx(area / (s.support_spacing + s.line_width), rel=0.2)
+    # A sheath: a loop along the cap's outline and one around the stem's gap.
+    from slicelab.geometry.polygons import signed_area
+    assert sorted(abs(signed_area(q)) for q in loops) == [pytest.approx((4 + 2 * s.support_xy_gap) ** 2, rel=0.25),
+                                                          pytest.approx(16 * 16, rel=0.1)]
     assert pp.warnings() == []  # held
     path = tmp_path / "m.gcode"
     write_gcode(pp, path)
     text = path.read_text()
     assert ";TYPE:Support material\n" in text and ";TYPE:Support material interface\n" in text
     assert f"F{60 * s.support_speed:.0f}" in text
+
+
+def test_supports_hold_only_the_edges_of_a_bridged_cap(tmp_path):
+    s = PrintSettings(**S, support="auto")
+    pp = plan(mushroom(), s, workers=1)
+    cap = int(round(6.0 / s.layer_height))
+    assert "bridge" in pp.layers[cap].kinds() and pp.overhangs[cap, 2] == 1
+    rows = _support_rows(pp)
+    top = cap - 1 - s.support_z_gap_layers
+    assert all(rows[k] for k in range(0, top + 1)) and not any(rows[k] for k in range(top + 1, len(rows)))
+    b = s.n_perimeters * s.line_width + EDGE_MARGIN
+    for k in range(top + 1):
+        pts = np.concatenate([q for _, q in rows[k]])
+        edge = np.minimum(np.minimum(pts, 16 - pts).min(axis=1), 99)  # distance in from the cap's outline
+        assert edge.min() >= -0.21 and edge.max() <= b + 0.41, (k, edge.max())  # a support pixel, a line
+    # The band holds a loop on each side and lines across it: more than the two loops' lengths.
+    path = tmp_path / "m.gcode"
+    write_gcode(pp, path)
+    text = path.read_text()
+    assert ";TYPE:Support material\n" in text and ";TYPE:Bridge infill\n" in text
+    length = sum(float(np.hypot(*np.diff(q, axis=0).T).sum()) for _, q in rows[2])
+    assert length > 4 * 16 + 4 * (16 - 2 * b)  # a sheath around the band and across it
+    assert pp.warnings() == []
 
 
 def test_supports_only_where_needed():

@@ -1,6 +1,7 @@
 """The commands that make printable things: cut, partition, arrange, slice."""
 from __future__ import annotations
 
+import argparse
 import sys
 from pathlib import Path
 
@@ -169,6 +170,9 @@ def _add_slice(sub) -> None:
     p.add_argument("--support", choices=("off", "auto", "bed"), default=GIVEN,
                    help="support material under overhangs and mid-air islands: off (default; they are "
                         "reported), auto (standing on the bed or the part), bed (only where they reach the bed)")
+    p.add_argument("--dont-support-bridges", action=argparse.BooleanOptionalAction, default=GIVEN,
+                   help="bridge what the layer below holds on one side only, supporting only a band along its "
+                        "outline, as PrusaSlicer does (default); --no-dont-support-bridges supports it whole")
     p.add_argument("--seam-position", choices=("aligned", "rear", "nearest"), default=GIVEN,
                    help="where perimeter loops start: aligned with the layer below (default), at the rear, or "
                         "nearest the nozzle")

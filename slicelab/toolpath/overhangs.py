@@ -30,17 +30,22 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from ..geometry.polygons import signed_area
 from .masks import GridMask, open_mask
 
-__all__ = ["Bridge", "LayerOverhangs", "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS"]
+__all__ = ["Bridge", "EDGE_MARGIN", "LayerOverhangs", "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS"]
 
 #: The kinds of rows whose stretches over nothing are overhang perimeters.
 PERIMETER_KINDS = ("external", "hole", "internal")
+#: Width (mm) beyond the perimeters of the band along a one-sided bridge's outline that stays
+#: unheld (`layer_overhangs`' `edge_band`): with two 0.4 mm perimeters, 2.8 mm, about the band
+#: PrusaSlicer supports under a mushroom's cap (``scripts/bench_slice.py``, ``data/mushroom.stl``).
+EDGE_MARGIN = 2.0
 
 
 @dataclass(frozen=True, eq=False)
 class Bridge:
-    """A region held by material below on two sides.
+    """A region held by material below on two sides (or on one, see `layer_overhangs`).
 
     Attributes
     ----------
@@ -49,7 +54,8 @@ class Bridge:
     angle : float
         Direction of its lines (degrees): from one anchor to the other.
     span : float
-        Distance between the two anchors' centres (mm).
+        Distance between the two anchors' centres (mm); held on one side, how far the region
+        reaches from it.
     """
 
     mask: GridMask
@@ -71,7 +77,8 @@ class LayerOverhangs:
     where : (2,) ndarray or None
         A point of the largest unheld part (mm), to name it in a warning.
     unheld : tuple of (k, 2) ndarray
-        The outlines of the unheld parts (mm, pixel-edge polygons): where supports go.
+        The outlines of the unheld parts (mm, polygons through their edge pixels' centres), outer
+        rings counter-clockwise and holes clockwise: where supports go.
     angle : float
         The steepest overhang measured (degrees from the vertical): how far the layer reaches
         beyond the one below, over the layer height; 0 when it stays within the threshold.
@@ -96,7 +103,8 @@ def _crop(mask) -> tuple[int, int, tuple] | None:
 
 
 def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0, islands=None,
-                    min_anchor: float | None = None) -> LayerOverhangs:
+                    min_anchor: float | None = None, edge_band: float | None = None,
+                    angle: float = 0.0) -> LayerOverhangs:
     """Bridges, unheld overhang and mid-air islands of a layer.
 
     Parameters
@@ -114,6 +122,14 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
         counted in `LayerOverhangs.mid_air` (without it, the layer counts as one island).
     min_anchor : float, optional
         Smallest anchor (mm^2) that holds a bridge; default four pixels.
+    edge_band : float, optional
+        Given, a part held on one side only is bridged from that side too, all but a band this
+        wide (mm) along the layer's outline, which stays unheld: supports then hold the
+        perimeters and the bridge's free edges, as PrusaSlicer's ``dont_support_bridges`` does.
+        None (default): such a part is unheld whole.
+    angle : float, default 0
+        Direction (degrees) of such a one-sided bridge's lines when it surrounds its anchor (a
+        mushroom's cap around its stem); otherwise they run from the anchor towards the part.
 
     Returns
     -------
@@ -131,6 +147,10 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
     >>> ov = layer_overhangs(GridMask(deck, 0, 0, 0.1), GridMask(pillars & (np.arange(100) < 50), 0, 0, 0.1), 0.2)
     >>> len(ov.bridges), round(ov.overhang_area, 1)     # a cantilever: held on one side only
     (0, 31.2)
+    >>> ov = layer_overhangs(GridMask(deck, 0, 0, 0.1), GridMask(pillars & (np.arange(100) < 50), 0, 0, 0.1), 0.2,
+    ...                      edge_band=1.0)            # bridged out from the pillar, but for its edges
+    >>> len(ov.bridges), round(ov.bridges[0].angle % 180, 1), round(ov.overhang_area, 1)
+    (1, 0.0, 17.6)
     """
     import cv2
     p = mine.pixel_size
@@ -177,6 +197,12 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
     ring = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (5, 5))
     bridges, area, worst, where, outlines = [], 0.0, 0, None, []
     h, w = shape
+    edge = None
+    if edge_band is not None:  # distances to the layer's outline, from a window wide enough to see it
+        b = int(math.ceil(edge_band / p)) + 1
+        inside = mine.window(row0 - b, col0 - b, (h + 2 * b, w + 2 * b)).astype(np.uint8)
+        edge = cv2.distanceTransform(inside, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)[b:b + h, b:b + w] * p \
+            <= edge_band + 0.5 * p
     for k in range(1, count):  # over the hanging parts, few
         if stats[k, cv2.CC_STAT_AREA] < min_px:
             continue
@@ -197,10 +223,23 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
             bridges.append(Bridge(GridMask(region, row0 + ya, col0 + xa, p), angle,
                                   math.hypot(x1 - x0, y1 - y0) * p))
             continue
-        px = int(stats[k, cv2.CC_STAT_AREA])
+        if big and edge is not None:  # held on one side: bridged out from it, all but the edge band
+            rr, cc = np.nonzero(part)
+            (xa0, ya0), (xp, yp) = a_centres[big[0]], (cc.mean(), rr.mean())
+            out = math.degrees(math.atan2(yp - ya0, xp - xa0)) if math.hypot(xp - xa0, yp - ya0) > 2 else angle
+            bridges.append(Bridge(GridMask(region, row0 + ya, col0 + xa, p), out,
+                                  float(dist[ya:yb, xa:xb][part].max())))
+            part = part & edge[ya:yb, xa:xb]
+            if not part.any():
+                continue
+        px = int(np.count_nonzero(part))
         area += px * p * p
-        contours, _ = cv2.findContours(part.astype(np.uint8), cv2.RETR_EXTERNAL, cv2.CHAIN_APPROX_SIMPLE)
-        outlines += [(c.reshape(-1, 2) + (col0 + xa, row0 + ya)) * p for c in contours if len(c) >= 3]
+        # Its outline and holes (an edge band is a ring), turned as `LayerOverhangs.unheld` says.
+        contours, tree = cv2.findContours(part.astype(np.uint8), cv2.RETR_CCOMP, cv2.CHAIN_APPROX_SIMPLE)
+        for c, (_, _, _, parent) in zip(contours, tree[0] if tree is not None else ()):  # over rings, few
+            if len(c) >= 3:
+                r = (c.reshape(-1, 2) + (col0 + xa, row0 + ya)) * p
+                outlines.append(r if (signed_area(r) > 0) == (parent < 0) else r[::-1])
         if px > worst:
             rr, cc = np.nonzero(part)
             i = len(rr) // 2

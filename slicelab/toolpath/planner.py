@@ -191,7 +191,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     once, when the first layer that reads it comes, and dropped when the last has. Everything
     comes as arguments: a pool's worker needs no state from the parent.
     """
-    from .overhangs import layer_overhangs, mark_overhangs
+    from .overhangs import EDGE_MARGIN, layer_overhangs, mark_overhangs
     from .paths import layer_paths
     from .perimeters import perimeter_band
     from .skins import internal_bridge, layer_skins
@@ -200,6 +200,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     from .skirt import skirt_loops, with_skirt
     sections = window
     band = perimeter_band(s.line_width, s.n_perimeters, s.infill_overlap, s.pixel_size)
+    edge_band = s.n_perimeters * s.line_width + EDGE_MARGIN if s.dont_support_bridges else None
     rasters, masks = {}, {}
 
     def reach(k):
@@ -225,12 +226,12 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
             pos = seam = None
         reach(k)
         solid, top = layer_skins(k, masks, s.skins, s.line_width)
+        parity = k % 2
+        solid_angle = (s.infill_angle + 90.0 * parity) if s.solid_angle is None else s.solid_angle
         ov = None
         if k > 0 and masks[k] is not None:  # the first layer lies on the bed
             ov = layer_overhangs(masks[k], masks.get(k - 1), s.layer_height, threshold=s.overhang_threshold,
-                                 islands=rasters[k])
-        parity = k % 2
-        solid_angle = (s.infill_angle + 90.0 * parity) if s.solid_angle is None else s.solid_angle
+                                 islands=rasters[k], edge_band=edge_band, angle=solid_angle)
         bridges = list(ov.bridges) if ov else []
         if s.infill_density < 1 and k > 0:  # a skin's first layer over sparse infill bridges it
             inner = internal_bridge(solid, masks.get(k - 1), below_solid, s.line_width, solid_angle)

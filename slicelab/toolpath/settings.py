@@ -85,7 +85,12 @@ class Supports:
     column reaches the bed); sparse lines with a gap of `support_spacing` between them (so a
     line width more from centre to centre, as PrusaSlicer counts it), and
     `support_interface_layers` denser layers on top (gap `support_interface_spacing`); a gap
-    of `support_xy_gap` (mm) to the part beside it and `support_z_gap_layers` layers under it."""
+    of `support_xy_gap` (mm) to the part beside it and `support_z_gap_layers` layers under it.
+    With `dont_support_bridges` (PrusaSlicer's default), material over nothing held by the layer
+    below on one side only is bridged out from that side, and only a band along its outline (the
+    perimeters and 2 mm more, `slicelab.toolpath.overhangs.EDGE_MARGIN`) is unheld: supports hold
+    that band; without it, such material is unheld whole. Held on two sides, it is a bridge either
+    way."""
 
     support: str = "off"
     support_spacing: float = 2.5
@@ -93,6 +98,7 @@ class Supports:
     support_interface_layers: int = 2
     support_xy_gap: float = 0.6
     support_z_gap_layers: int = 1
+    dont_support_bridges: bool = True
 
 
 @dataclass(frozen=True)
@@ -306,8 +312,9 @@ class PrintSettings:
             raise ValueError(f"support must be off, auto or bed, got {self.support!r}")
         if self.seam_position not in ("nearest", "rear", "aligned"):
             raise ValueError(f"seam_position must be nearest, rear or aligned, got {self.seam_position!r}")
-        if not isinstance(self.external_perimeters_first, (bool, np.bool_)):
-            raise ValueError(f"external_perimeters_first must be true or false, got {self.external_perimeters_first!r}")
+        for name in ("external_perimeters_first", "dont_support_bridges"):
+            if not isinstance(getattr(self, name), (bool, np.bool_)):
+                raise ValueError(f"{name} must be true or false, got {getattr(self, name)!r}")
         if self.rule not in ("nonzero", "evenodd"):
             raise ValueError(f"rule must be 'nonzero' or 'evenodd', got {self.rule!r}")
         if self.infill_pattern not in PATTERNS:

@@ -13,7 +13,8 @@ need line-width accuracy, not the perimeters' tenth of a millimetre):
   `support_z_gap_layers` layers under the overhang, so it breaks away;
 - its top `support_interface_layers` layers are an interface, filled densely
   (`support_interface_spacing`); the rest is sparse lines `support_spacing`
-  apart, turned 90 degrees on alternate layers.
+  apart, turned 90 degrees on alternate layers, inside a loop around each region
+  (a sheath).
 
 Rasterising a layer and the projection cost the grid's pixels (the part's
 footprint at `PIXEL`, a few hundred thousand at most), one vectorised pass
@@ -21,14 +22,13 @@ per layer.
 
 Notes
 -----
-A cantilever (material held by the part on one side only) is unheld as a whole
-(`slicelab.toolpath.overhangs`), and its first layer is laid as solid infill over
-the interface: its supports cover the whole underside. PrusaSlicer, with its
-default ``dont_support_bridges``, lays the first layer of such a region as bridge
-infill and supports only a band under its outline (its perimeters and a margin),
-so under a mushroom's cap it lays far less support. Over the same extent
-(``--no-dont-support-bridges``) its supports are the denser: the same pitch
-(gap plus about a line width), a loop around each region and a denser first layer.
+With ``dont_support_bridges`` (`slicelab.toolpath.PrintSettings`, on by default as
+in PrusaSlicer), material held by the part on one side only (a cantilever, a
+mushroom's cap) is bridged out from that side, and only a band along its
+outline is unheld (`slicelab.toolpath.overhangs.layer_overhangs`): the supports
+stand under that band. Without it, such material is unheld whole, its first
+layer is laid as solid infill over the interface, and its supports cover the
+whole underside.
 
 See Also
 --------
@@ -53,14 +53,12 @@ SUPPORTS = ("off", "auto", "bed")
 
 
 def _rings_edges(rings) -> np.ndarray:
-    """Edges of closed rings, each turned counter-clockwise (outlines: all material)."""
+    """Edges of closed rings as they turn (outer rings and holes turn opposite ways)."""
     out = []
     for r in rings:  # over outlines, few
         r = np.asarray(r, np.float64)
         if len(r) < 3:
             continue
-        if signed_area(r) < 0:
-            r = r[::-1]
         out.append(np.stack([r, np.concatenate((r[1:], r[:1]))], 1))
     return np.concatenate(out) if out else np.zeros((0, 2, 2))
 
@@ -74,7 +72,8 @@ def support_masks(sections, unheld, *, mode: str = "auto", xy_gap: float = 0.6, 
     sections : sequence of Section
         The layers, bottom to top.
     unheld : sequence of sequence of (k, 2) ndarray
-        Per layer, the outlines (mm) of what hangs in the air (`LayerOverhangs.unheld`).
+        Per layer, the outlines (mm) of what hangs in the air (`LayerOverhangs.unheld`): a hole
+        turns the other way from the ring around it (non-zero winding).
     mode : {"auto", "bed"}
         Columns stand on the part or the bed, or only on the bed.
     xy_gap : float, default 0.6
@@ -211,9 +210,12 @@ def support_paths(sections, unheld, *, mode: str = "auto", line_width: float = 0
         rows = []
         if sup is not None:
             turn = angle + 90.0 * (j % 2)
-            sparse = sup & ~inter if inter is not None else sup
-            rows += [("support", q) for q in rectilinear(_polygons(sparse, row0, col0, pixel, min_area), spacing,
-                                                          turn)]
+            sparse = _polygons(sup & ~inter if inter is not None else sup, row0, col0, pixel, min_area)
+            # A sheath: a loop around each region (and its holes) binds its lines together, so a
+            # narrow band (an edge of a bridge, `LayerOverhangs.unheld`) stands, as PrusaSlicer's
+            # default ``support_material_with_sheath`` does.
+            rows += [("support", np.concatenate((r, r[:1]))) for q in sparse for r in (q.exterior, *q.holes)]
+            rows += [("support", q) for q in rectilinear(sparse, spacing, turn)]
             if inter is not None:
                 rows += [("support_interface", q) for q in
                          rectilinear(_polygons(inter, row0, col0, pixel, min_area), interface_spacing, turn + 90.0)]
