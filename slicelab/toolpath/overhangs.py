@@ -6,8 +6,11 @@ less than ``layer_height * tan(threshold)`` per layer, and the extrusion below
 holds it; what lies farther than that from the material below hangs in the
 air. Each connected part of it is then either a **bridge**, when material
 below holds it on two sides (its lines are laid straight across, from one
-anchor towards the other), or an **overhang**, which needs support. An island
-with no material at all under it starts in mid-air.
+anchor towards the other), or an **overhang**, which needs support. Held on
+one side only, a part may also be bridged out from that side, all but a band
+along the layer's outline, which stays an overhang (``edge_band``, as
+PrusaSlicer's ``dont_support_bridges``). An island with no material at all
+under it starts in mid-air.
 
 Only layers with something over nothing pay more than one mask difference:
 the pixels looked at are those of the difference's bounding box.

@@ -106,7 +106,7 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
         The part of `solid` that the layer above leaves exposed (top skin): solid
         lines mostly inside it are of kind ``"top"``.
     bridges : sequence of Bridge, optional
-        Regions over nothing held on two sides (`slicelab.toolpath.overhangs`): the
+        Regions over nothing held by the layer below (`slicelab.toolpath.overhangs`): the
         solid filling inside each is laid in lines along its angle, kind ``"bridge"``.
     start : (2,) array_like, optional
         Nozzle position before the layer (default: the layer's lower-left corner).

@@ -70,7 +70,7 @@ class Skins:
     """Solid skins: how many layers at the top and bottom, and their angle (None: the infill's,
     turned 90 degrees every layer); the overhang angle from the vertical (degrees) up to which a
     wall holds itself (`slicelab.toolpath.overhangs`): beyond it, material over nothing is a bridge
-    when held on two sides, else reported as unsupported."""
+    when held on two sides (or on one, `Supports.dont_support_bridges`), else unheld."""
 
     top_layers: int = 3
     bottom_layers: int = 3
