@@ -226,13 +226,16 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
             bridges.append(Bridge(GridMask(region, row0 + ya, col0 + xa, p), angle,
                                   math.hypot(x1 - x0, y1 - y0) * p))
             continue
-        if big and edge is not None:  # held on one side: bridged out from it, all but the edge band
+        band = edge[ya:yb, xa:xb] & part if big and edge is not None else None
+        # Held on one side: bridged out from it, all but the edge band (a part within the band,
+        # a sliver along a leaning wall, has nothing to bridge and stays unheld whole).
+        if band is not None and np.count_nonzero(part) - np.count_nonzero(band) >= min_px:
             rr, cc = np.nonzero(part)
             (xa0, ya0), (xp, yp) = a_centres[big[0]], (cc.mean(), rr.mean())
             out = math.degrees(math.atan2(yp - ya0, xp - xa0)) if math.hypot(xp - xa0, yp - ya0) > 2 else angle
             bridges.append(Bridge(GridMask(region, row0 + ya, col0 + xa, p), out,
                                   float(dist[ya:yb, xa:xb][part].max())))
-            part = part & edge[ya:yb, xa:xb]
+            part = band
             if not part.any():
                 continue
         px = int(np.count_nonzero(part))
