@@ -88,6 +88,8 @@ def test_only_steep_overhangs_are_reported(angle, unsupported):
     pp = plan(ramp(angle), s, workers=1)
     codes = [w["code"] for w in pp.warnings()]
     assert ("unsupported_overhang" in codes) == unsupported, (angle, pp.overhangs[:, 0].sum())
+    # A leaning wall's sliver over nothing, held on one side, lies within its edge band: no bridge.
+    assert pp.overhangs[:, 2].sum() == 0
     if unsupported:
         # Every layer above the first leans out by h tan(60) = 0.43 mm, beyond h tan(50) = 0.30 mm.
         assert (pp.overhangs[1:, 0] > 0).mean() > 0.9
