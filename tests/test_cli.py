@@ -119,3 +119,16 @@ def test_the_console_command_ends_quickly_but_runs_exit_handlers(data_dir, tmp_p
         assert json.loads(r.stdout[len("before the command"):])["n_facets"] == 512
     else:
         assert r.stderr.startswith("slicelab: error:") and r.stderr.count("\n") == 1
+
+
+def test_a_reader_that_leaves_early_is_no_error(data_dir):
+    # `slicelab inspect ... | head -1`: the pipe closes after the first line; the command stops
+    # without a word on stderr and with the status of a process ended by SIGPIPE.
+    files = [str(data_dir / "cube_with_hole.stl")] * 1000  # some 330 kB: more than a pipe holds
+    with subprocess.Popen([sys.executable, "-m", "slicelab", "inspect", *files], stdout=subprocess.PIPE,
+                          stderr=subprocess.PIPE) as p:
+        first = p.stdout.readline()
+        p.stdout.close()
+        err = p.stderr.read()
+        status = p.wait()
+    assert first.startswith(b"== ") and err == b"" and status == 141

@@ -80,6 +80,8 @@ def main(argv=None) -> int:
     except (MeshFileError, UsageError) as exc:
         print(f"slicelab: error: {exc}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # the reader left (`slicelab inspect ... | head`): nothing is wrong here
+        return _reader_gone()
     except (ValueError, OSError) as exc:
         msg = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
         print(f"slicelab: error: {msg}", file=sys.stderr)
@@ -91,6 +93,21 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("slicelab: interrupted", file=sys.stderr)
         return 130
+
+
+#: The status of a command whose reader closed the pipe: a process ended by SIGPIPE, as the shell shows it.
+SIGPIPE_STATUS = 141
+
+
+def _reader_gone() -> int:
+    """Point stdout at the null device, so that nothing more fails on it, and return `SIGPIPE_STATUS`."""
+    import os
+    try:
+        null = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(null, sys.stdout.fileno())
+    except (OSError, ValueError):  # a stdout without a file descriptor (a notebook's)
+        pass
+    return SIGPIPE_STATUS
 
 
 def run() -> int:
