@@ -7,7 +7,8 @@ teapot from `../shared/meshes/scans/` scaled to 120 mm (`--scale` on both sides)
 the 1M-facet torus (`data/large/torus_1m.stl`, 80 mm), a 20 mm deck bridged between
 two pillars (`data/bridge.stl`) and a mushroom whose 40 mm cap hangs 15 mm out
 (`data/mushroom.stl`, sliced with supports on both sides: `--support auto`,
-`--support-material`). `--mesh` (repeatable) runs other files instead. Per part, the
+`--support-material`). `--mesh` (repeatable) runs other files instead, with supports given
+`--support`; `--prusa-arg` hands PrusaSlicer a further argument. Per part, the
 length each tool extrudes under each ``;TYPE:`` word (bridges, supports, ...) and the
 print time each announces are printed too.
 
@@ -208,7 +209,7 @@ def bench_part(label: str, mesh: Path, scale: float | None, args, prusa: str | N
             "--extrusion-width", str(WIDTH), "--first-layer-extrusion-width", str(WIDTH),
             "--skirts", "0", *PRUSA_SPEEDS, "--bed-shape", "0x0,1000x0,1000x1000,0x1000", "--center", "500,500",
             "--max-print-height", "1000", "-o", str(theirs)] + (["--scale", factor[0]] if factor else []) \
-        + (["--support-material"] if support else []) + [str(mesh)]
+        + (["--support-material"] if support else []) + list(args.prusa_arg) + [str(mesh)]
     runs = {"slicelab": [], "PrusaSlicer": []}
     for _ in range(args.repeat):  # alternating, so both tools see the same machine load
         t, m, r = run(cmd)
@@ -271,8 +272,12 @@ def main(argv=None) -> int:
     ap.add_argument("--pixel-size", type=float, default=None, help="default: slicelab's own")
     ap.add_argument("--repeat", type=int, default=1, help="alternating runs per tool (median wall time)")
     ap.add_argument("--preview", action="store_true", help="slicelab draws its previews too (--preview DIR)")
+    ap.add_argument("--support", action="store_true", help="the --mesh parts with supports on both sides")
+    ap.add_argument("--prusa-arg", action="append", default=[], metavar="ARG",
+                    help="a further argument for PrusaSlicer (repeatable; --prusa-arg=--flag for a flag), "
+                         "to see where a difference comes from")
     args = ap.parse_args(argv)
-    parts = [(m.name, m, None, False) for m in args.mesh] if args.mesh else PARTS
+    parts = [(m.name, m, None, args.support) for m in args.mesh] if args.mesh else PARTS
     prusa = shutil.which("prusa-slicer") or shutil.which("prusaslicer")
     print(f"{LAYER} mm layers, {WIDTH} mm lines, {PERIMETERS} perimeters, {INFILL}% infill, {SOLID} top/bottom "
           f"layers; {os.cpu_count()} cores, shared machine (noisy timings); {args.repeat} alternating run(s) "
