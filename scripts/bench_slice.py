@@ -7,7 +7,7 @@ teapot from `../shared/meshes/scans/` scaled to 120 mm (`--scale` on both sides)
 the 1M-facet torus (`data/large/torus_1m.stl`, 80 mm), a 20 mm deck bridged between
 two pillars (`data/bridge.stl`) and a mushroom whose 40 mm cap hangs 15 mm out
 (`data/mushroom.stl`, sliced with supports on both sides: `--support auto`,
-`--support-material`). `--mesh` (repeatable) runs other files instead, with supports given
+`--support-material` with slicelab's support settings, `PRUSA_SUPPORT`). `--mesh` (repeatable) runs other files instead, with supports given
 `--support`; `--prusa-arg` hands PrusaSlicer a further argument. Per part, the
 length each tool extrudes under each ``;TYPE:`` word (bridges, supports, ...) and the
 print time each announces are printed too.
@@ -169,6 +169,15 @@ SAME_SPEEDS = ["--acceleration", "1500", "--jerk", "10"]  # slicelab's speeds ar
 PRUSA_SPEEDS = [w for k, v in SPEEDS.items() for w in (f"--{k.replace('_', '-')}-speed", str(v))] + \
     ["--support-material-speed", "50"]
 
+#: slicelab's support settings, spelled out for PrusaSlicer where its own defaults differ: an
+#: overhang threshold of 50 degrees from the vertical (PrusaSlicer measures its slope from the
+#: horizontal: 40), two interface layers with 0.2 mm gaps (its defaults: three, solid), a 0.6 mm
+#: gap to the part beside. Both leave one layer (0.2 mm) under the part, lines with 2.5 mm gaps,
+#: a loop around each region, and bridges unsupported but for the band along their outline.
+PRUSA_SUPPORT = ["--support-material", "--support-material-threshold", "40",
+                 "--support-material-interface-layers", "2", "--support-material-interface-spacing", "0.2",
+                 "--support-material-xy-spacing", "0.6"]
+
 #: (label, file, largest size to scale to or None, supports on both sides)
 PARTS = (("pot", ROOT / "data" / "pot.stl", None, False),
          ("block 96 mm", ROOT / "data" / "large" / "block_100.stl", None, False),
@@ -209,7 +218,7 @@ def bench_part(label: str, mesh: Path, scale: float | None, args, prusa: str | N
             "--extrusion-width", str(WIDTH), "--first-layer-extrusion-width", str(WIDTH),
             "--skirts", "0", *PRUSA_SPEEDS, "--bed-shape", "0x0,1000x0,1000x1000,0x1000", "--center", "500,500",
             "--max-print-height", "1000", "-o", str(theirs)] + (["--scale", factor[0]] if factor else []) \
-        + (["--support-material"] if support else []) + list(args.prusa_arg) + [str(mesh)]
+        + (PRUSA_SUPPORT if support else []) + list(args.prusa_arg) + [str(mesh)]
     runs = {"slicelab": [], "PrusaSlicer": []}
     for _ in range(args.repeat):  # alternating, so both tools see the same machine load
         t, m, r = run(cmd)
