@@ -101,6 +101,18 @@ def test_only_steep_overhangs_are_reported(angle, unsupported):
         assert pp.overhangs[1:, 3][np.isfinite(pp.overhangs[1:, 3])].min() > 9.0  # on the leaning +x side
 
 
+@pytest.mark.parametrize("pixel", [None, 0.1])
+def test_the_threshold_holds_at_the_default_pixel_size(pixel):
+    # The default pixel is half a line (0.2 mm): a 60-degree wall steps out 0.35 mm a layer, beyond
+    # the 0.24 mm a 50-degree threshold lets it reach, and hangs on most layers (a pixel's rounding
+    # spares some); a 40-degree wall never does.
+    for angle, hangs in ((40, False), (60, True)):
+        pp = plan(ramp(angle), PrintSettings(layer_height=0.2, first_layer_height=0.2, skirt_loops=0,
+                                             pixel_size=pixel), workers=1)
+        share = float((pp.overhangs[1:, 0] > 0).mean())
+        assert share > 0.6 if hangs else share == 0, (angle, share)
+
+
 def test_a_steeper_threshold_lets_the_ramp_hold():
     pp = plan(ramp(60), PrintSettings(**S, overhang_threshold=70), workers=1)
     assert pp.warnings() == []

@@ -157,6 +157,21 @@ def test_block_mask_algebra_and_opening_match_whole_masks():
             np.testing.assert_array_equal(open_mask(ours, r).window(*win), open_mask(ref, r).window(*win))
 
 
+def test_block_mask_dilation_matches_opencv_on_the_whole_mask():
+    import cv2
+    from slicelab.toolpath.masks import dilate_mask
+    a = rasterize(section_of([star(5, 8, 3), circle(1.0, 32, (-0.5, 0.0))[::-1]]), 0.05, band=0.4).tiles[0]
+    win = (-200, -200, (400, 400))
+    for k in (1, 3, 9):  # within a block, and across several (blocks are 8 pixels or more)
+        yy, xx = np.mgrid[-k:k + 1, -k:k + 1]
+        disc = (yy * yy + xx * xx <= k * k + 0.5).astype(np.uint8)
+        ref = cv2.dilate(a.window(*win).view(np.uint8), disc).view(bool)
+        got = dilate_mask(a, disc)
+        np.testing.assert_array_equal(got.window(*win), ref)
+        np.testing.assert_array_equal(dilate_mask(a.to_grid(), disc).window(*win), ref)
+        assert got.area == pytest.approx(ref.sum() * 0.05 ** 2)
+
+
 def test_pixels_held_grow_with_the_boundary_not_the_area():
     # A ring of constant 4 mm wall: its window grows with the square of its radius, the pixels
     # held along its boundary only with the radius.

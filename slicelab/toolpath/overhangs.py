@@ -12,8 +12,10 @@ along the layer's outline, which stays an overhang (``edge_band``, as
 PrusaSlicer's ``dont_support_bridges``). An island with no material at all
 under it starts in mid-air.
 
-Only layers with something over nothing pay more than one mask difference:
-the pixels looked at are those of the difference's bounding box.
+Every layer pays a dilation of the layer below by the reach (block by block,
+along its boundary) and a mask difference, which leave exactly the pixels that
+hang; only layers where some do pay more, over the bounding box of those
+pixels.
 
 See Also
 --------
@@ -34,7 +36,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..geometry.polygons import signed_area
-from .masks import GridMask, open_mask
+from .masks import GridMask, dilate_mask
 
 __all__ = ["Bridge", "EDGE_MARGIN", "LayerOverhangs", "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS"]
 
@@ -174,14 +176,16 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
     if diff.area == 0:
         return LayerOverhangs(mid_air=mid_air)
     reach = layer_height * math.tan(math.radians(threshold))
-    # A first, cheap pass, block by block: an opening drops the slivers of walls that lean
-    # less than the threshold (a strip under 2 r0 + 1 pixels, at least the reach, hangs out by
-    # less than a pixel beyond it), so most layers end here.
-    r0 = max(1, int(round(0.5 * reach / p)))
-    diff = open_mask(diff, r0)
-    if diff is None:
-        return LayerOverhangs(mid_air=mid_air)
-    window = _crop(diff)
+    # A first, cheap pass, block by block: a pixel hangs when no pixel of the layer below lies
+    # within the reach and half a pixel of it (the test the distances below make), so the layer
+    # below dilated by that disc leaves exactly the hanging pixels: most layers end here.
+    cand = diff
+    if below is not None:
+        r = reach / p + 0.5
+        k = int(r)
+        yy, xx = np.mgrid[-k:k + 1, -k:k + 1]
+        cand = mine - dilate_mask(below, (yy * yy + xx * xx <= r * r).astype(np.uint8))
+    window = _crop(cand) if cand.area > 0 else None
     if window is None:
         return LayerOverhangs(mid_air=mid_air)
     margin = int(math.ceil(reach / p)) + 3
