@@ -159,8 +159,10 @@ def test_block_mask_algebra_and_opening_match_whole_masks():
 
 def test_block_mask_dilation_matches_opencv_on_the_whole_mask():
     import cv2
-    from slicelab.toolpath.masks import dilate_mask
-    a = rasterize(section_of([star(5, 8, 3), circle(1.0, 32, (-0.5, 0.0))[::-1]]), 0.05, band=0.4).tiles[0]
+    from slicelab.toolpath.masks import dilate_mask, near_mask
+    # A ring: full blocks in its wall, empty ones in its hole and around it, active ones between.
+    a = rasterize(section_of([circle(9.0, 128), circle(3.0, 64)[::-1]]), 0.05, band=0.4).tiles[0]
+    assert a.blocks.n_full > 0 and (a.blocks.table == -1).any()
     win = (-200, -200, (400, 400))
     for k in (1, 3, 9):  # within a block, and across several (blocks are 8 pixels or more)
         yy, xx = np.mgrid[-k:k + 1, -k:k + 1]
@@ -170,6 +172,14 @@ def test_block_mask_dilation_matches_opencv_on_the_whole_mask():
         np.testing.assert_array_equal(got.window(*win), ref)
         np.testing.assert_array_equal(dilate_mask(a.to_grid(), disc).window(*win), ref)
         assert got.area == pytest.approx(ref.sum() * 0.05 ** 2)
+        # Read on some blocks only (active, full, empty and beyond the mask's table alike).
+        b = a.blocks.size
+        lo, hi = -(200 // b), 200 // b  # the blocks inside the window
+        rows, cols = np.mgrid[lo:hi, lo:hi].reshape(2, -1)
+        near = near_mask(a, rows, cols, disc)
+        for n, (i, j) in enumerate(zip(rows, cols)):
+            r, c = i * b + 200, j * b + 200
+            np.testing.assert_array_equal(near[n], ref[r:r + b, c:c + b])
 
 
 def test_pixels_held_grow_with_the_boundary_not_the_area():

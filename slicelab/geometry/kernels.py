@@ -46,10 +46,11 @@ def fill_blocks(out, data, h, empty, full, table, brow0, bcol0, rows, cols):
     Block k goes to ``out[k // m, :, k % m, :]`` (q = B + 2 h); a halo pixel
     takes its neighbour's value, or `empty` / `full` for uniform blocks and
     blocks outside `table` (empty). `table` holds stack indices or -1 / -2, its
-    ``[0, 0]`` at world block (brow0, bcol0); `rows`, `cols` are the active
-    blocks' world block indices.
+    ``[0, 0]`` at world block (brow0, bcol0); `rows`, `cols` are the world block
+    indices of the blocks to write: the table's active blocks (stack order), or
+    any others, whose pixels then come from the table too.
     """
-    n, b = data.shape[0], data.shape[1]
+    n, b = rows.shape[0], data.shape[1]
     q = b + 2 * h
     m = out.shape[2]
     nr, nc = table.shape

@@ -25,7 +25,7 @@ import numpy as np
 
 from ..geometry.blocks import EMPTY, FULL, BlockGrid
 
-__all__ = ["GridMask", "BlockMask", "bits_in_blocks", "dilate_mask", "open_mask", "pixels_in_boxes"]
+__all__ = ["GridMask", "BlockMask", "bits_in_blocks", "dilate_mask", "near_mask", "open_mask", "pixels_in_boxes"]
 
 
 class _Window:
@@ -395,6 +395,45 @@ def dilate_mask(mask, kernel: np.ndarray):
     out = BlockGrid.from_status(b, grid.row0, grid.col0, table == 0, table == FULL)
     return BlockMask(grown[keep].view(bool), out, mask.row0 - r, mask.col0 - r, (h + 2 * r, w + 2 * r),
                      mask.pixel_size)
+
+
+def near_mask(mask: BlockMask, brows, bcols, kernel: np.ndarray) -> np.ndarray:
+    """The pixels of some blocks within a structuring element of a block mask's material.
+
+    `mask` dilated by `kernel` (an odd square uint8 array, centred), read only on
+    the world blocks (`brows`, `bcols`) of its block size: each is laid out with
+    a halo of the kernel's radius read from `mask`'s blocks, uniform ones
+    included, and dilated there. The cost follows those blocks, not `mask`.
+
+    Returns
+    -------
+    (n, B, B) bool ndarray
+
+    Examples
+    --------
+    >>> from slicelab.geometry.blocks import BlockGrid
+    >>> g = BlockGrid(2, 0, 0, np.array([[0, -1]]))
+    >>> m = BlockMask(np.array([[[0, 1], [0, 0]]], bool), g, 0, 0, (2, 4), 1.0)
+    >>> near_mask(m, [0], [1], np.ones((3, 3), np.uint8)).astype(int).tolist()   # the block to its right
+    [[[1, 0], [1, 0]]]
+    """
+    import cv2
+
+    from ..geometry.kernels import fill_blocks
+    g = mask.blocks
+    b, r = g.size, kernel.shape[0] // 2
+    brows, bcols = np.asarray(brows, np.int64), np.asarray(bcols, np.int64)
+    n = len(brows)
+    if n == 0:
+        return np.zeros((0, b, b), bool)
+    q = b + 2 * r
+    m = max(1, min(n, 2048 // q))  # blocks side by side in rows of about 2000 pixels, as a mosaic
+    rows = -(-n // m)
+    image = np.zeros((rows, q, m, q), np.uint8)
+    fill_blocks(image, np.ascontiguousarray(mask.bits).view(np.uint8), r, np.uint8(0), np.uint8(1), g.table,
+                g.row0, g.col0, brows, bcols)
+    grown = cv2.dilate(image.reshape(rows * q, m * q), kernel).reshape(rows, q, m, q)
+    return grown[:, r:r + b, :, r:r + b].transpose(0, 2, 1, 3).reshape(rows * m, b, b)[:n].view(bool)
 
 
 def pixels_in_boxes(mask, boxes) -> np.ndarray:

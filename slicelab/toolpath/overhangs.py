@@ -12,9 +12,9 @@ along the layer's outline, which stays an overhang (``edge_band``, as
 PrusaSlicer's ``dont_support_bridges``). An island with no material at all
 under it starts in mid-air.
 
-Every layer pays a dilation of the layer below by the reach (block by block,
-along its boundary) and a mask difference, which leave exactly the pixels that
-hang; only layers where some do pay more, over the bounding box of those
+Every layer pays a mask difference and a dilation of the layer below by the
+reach, read on the difference's blocks only, which leave exactly the pixels
+that hang; only layers where some do pay more, over the bounding box of those
 pixels.
 
 See Also
@@ -30,13 +30,15 @@ References
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass, replace
 
 import numpy as np
 
 from ..geometry.polygons import signed_area
-from .masks import BlockMask, GridMask, dilate_mask
+from ..geometry.blocks import FULL
+from .masks import BlockMask, GridMask, dilate_mask, near_mask
 
 __all__ = ["Bridge", "EDGE_MARGIN", "LayerOverhangs", "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS"]
 
@@ -108,21 +110,42 @@ def _crop(mask) -> tuple[int, int, tuple] | None:
             (int(rows[-1] - rows[0]) + 1, int(cols[-1] - cols[0]) + 1))
 
 
-def _held(below, kernel: np.ndarray):
-    """The layer below dilated by `kernel`, except in its uniform blocks: what it holds, or a
-    little less (never more) within the kernel's radius of a block seam beside an empty block.
+@functools.lru_cache(maxsize=16)
+def _within(radius: float) -> np.ndarray:
+    """The structuring element of the pixel offsets within `radius` pixels (centre to centre)."""
+    k = int(radius)
+    yy, xx = np.mgrid[-k:k + 1, -k:k + 1]
+    return (yy * yy + xx * xx <= radius * radius).astype(np.uint8)
 
-    On a block mask, the dilation runs over its own active blocks (their halos read the uniform
-    blocks around them), not over the blocks `dilate_mask` would add around them: a third of the
-    pixels, for a test that may only keep a few pixels too many (the exact pass drops them).
+
+def _hanging_window(below, diff, radius: float):
+    """The window (row0, col0, shape) of the pixels of `diff` with no pixel of `below` within
+    `radius` pixels (centre to centre), or None if there are none.
+
+    On block masks the test runs on the blocks of `diff` alone (`near_mask`): its cost follows
+    the few blocks where the layers differ, not the layer.
     """
-    import cv2
-    if not isinstance(below, BlockMask):
-        return dilate_mask(below, kernel)
-    r = kernel.shape[0] // 2
-    g = below.blocks
-    grown = g.cores(cv2.dilate(g.mosaic(below.bits.view(np.uint8), r, np.uint8(0), np.uint8(1)), kernel), r)
-    return BlockMask(grown.view(bool), g, below.row0, below.col0, below.shape, below.pixel_size)
+    kernel = _within(radius)
+    if not (isinstance(diff, BlockMask) and isinstance(below, BlockMask) and diff.blocks.size == below.blocks.size):
+        return _crop(GridMask(diff.mask & ~dilate_mask(below, kernel).window(diff.row0, diff.col0, diff.shape),
+                              diff.row0, diff.col0, diff.pixel_size))
+    g = diff.blocks
+    bsz = g.size
+    free = diff.bits & ~near_mask(below, g.rows, g.cols, kernel)
+    full = g.n_full > 0  # a whole block over nothing: its pixels may all hang
+    if not (full or free.any()):  # (most layers)
+        return None
+    kk, rr, cc = np.nonzero(free)
+    rows, cols = g.rows[kk] * bsz + rr, g.cols[kk] * bsz + cc
+    if full:
+        fr, fc = np.nonzero(g.table == FULL)
+        fr, fc = (fr + g.row0) * bsz, (fc + g.col0) * bsz
+        rows = np.concatenate((rows, fr, fr + bsz - 1))
+        cols = np.concatenate((cols, fc, fc + bsz - 1))
+    if len(rows) == 0:
+        return None
+    r0, c0 = int(rows.min()), int(cols.min())
+    return r0, c0, (int(rows.max()) - r0 + 1, int(cols.max()) - c0 + 1)
 
 
 def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0, islands=None,
@@ -196,13 +219,7 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
     # A first, cheap pass, block by block: a pixel hangs when no pixel of the layer below lies
     # within the reach and half a pixel of it (the test the distances below make), so the layer
     # below dilated by that disc leaves exactly the hanging pixels: most layers end here.
-    cand = diff
-    if below is not None:
-        r = reach / p + 0.5
-        k = int(r)
-        yy, xx = np.mgrid[-k:k + 1, -k:k + 1]
-        cand = mine - _held(below, (yy * yy + xx * xx <= r * r).astype(np.uint8))
-    window = _crop(cand) if cand.area > 0 else None
+    window = _crop(diff) if below is None else _hanging_window(below, diff, reach / p + 0.5)
     if window is None:
         return LayerOverhangs(mid_air=mid_air)
     margin = int(math.ceil(reach / p)) + 3
