@@ -256,7 +256,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
         areas = _areas(lp, rasters[k], solid, s)
         lp = with_skirt(lp, skirt, brim)
         if k > 0 and masks.get(k - 1) is not None:
-            lp = mark_overhangs(lp, masks[k - 1])
+            lp = mark_overhangs(lp, masks[k - 1], sections[k - 1], rule=s.rule)
         items = list(lp.ordered())
         if items:
             pos = items[-1][1][-1]
