@@ -346,17 +346,21 @@ def open_mask(mask, radius: int):
     grid, bits = mask.blocks.widen(mask.bits, False, True, -(-halo // b))
     image = grid.mosaic(bits.view(np.uint8), halo, np.uint8(0), np.uint8(1))
     eroded = cv2.erode(image, kernel)
-    opened = grid.cores(cv2.dilate(eroded, kernel), halo)
-    flat = opened.reshape(len(opened), -1) if len(opened) else opened.reshape(0, 1)
+    opened = _as_blocks(grid, grid.cores(cv2.dilate(eroded, kernel), halo), mask.row0, mask.col0, mask.shape,
+                        mask.pixel_size)
+    return opened if len(opened.blocks) or opened.blocks.n_full else None
+
+
+def _as_blocks(grid, values: np.ndarray, row0: int, col0: int, shape, pixel_size: float) -> BlockMask:
+    """A block mask of new values (n, B, B) of `grid`'s active blocks: those now uniform made so."""
+    flat = values.reshape(len(values), -1) if len(values) else values.reshape(0, 1)
     some, every = flat.any(axis=1), flat.all(axis=1)
     keep = some & ~every
     table = grid.table.copy()
     on = table >= 0
     table[on] = np.where(keep, 0, np.where(every, FULL, EMPTY))
-    out = BlockGrid.from_status(b, grid.row0, grid.col0, table == 0, table == FULL)
-    if not len(out) and not out.n_full:
-        return None
-    return BlockMask(opened[keep].view(bool), out, mask.row0, mask.col0, mask.shape, mask.pixel_size)
+    out = BlockGrid.from_status(grid.size, grid.row0, grid.col0, table == 0, table == FULL)
+    return BlockMask(values[keep].view(bool), out, row0, col0, shape, pixel_size)
 
 
 def dilate_mask(mask, kernel: np.ndarray):
@@ -385,16 +389,8 @@ def dilate_mask(mask, kernel: np.ndarray):
     b = mask.blocks.size
     grid, bits = mask.blocks.widen(mask.bits, False, True, -(-r // b))
     image = grid.mosaic(bits.view(np.uint8), r, np.uint8(0), np.uint8(1))
-    grown = grid.cores(cv2.dilate(image, kernel), r)
-    flat = grown.reshape(len(grown), -1) if len(grown) else grown.reshape(0, 1)
-    some, every = flat.any(axis=1), flat.all(axis=1)
-    keep = some & ~every
-    table = grid.table.copy()
-    on = table >= 0
-    table[on] = np.where(keep, 0, np.where(every, FULL, EMPTY))
-    out = BlockGrid.from_status(b, grid.row0, grid.col0, table == 0, table == FULL)
-    return BlockMask(grown[keep].view(bool), out, mask.row0 - r, mask.col0 - r, (h + 2 * r, w + 2 * r),
-                     mask.pixel_size)
+    return _as_blocks(grid, grid.cores(cv2.dilate(image, kernel), r), mask.row0 - r, mask.col0 - r,
+                      (h + 2 * r, w + 2 * r), mask.pixel_size)
 
 
 def near_mask(mask: BlockMask, brows, bcols, kernel: np.ndarray) -> np.ndarray:
