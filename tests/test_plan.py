@@ -319,5 +319,7 @@ def test_bad_settings():
         PrintSettings(layer_height=0)
     with pytest.raises(ValueError, match="infill_density"):
         PrintSettings(infill_density=2)
+    with pytest.raises(ValueError, match="^dont_support_bridges must be true or false, got 'no'"):
+        PrintSettings(dont_support_bridges="no")
     with pytest.raises(ValueError, match="nothing to print"):
         plan(slicelab.Mesh(np.zeros((0, 3, 3))), PrintSettings())

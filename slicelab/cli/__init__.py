@@ -105,6 +105,7 @@ def _reader_gone() -> int:
     try:
         null = os.open(os.devnull, os.O_WRONLY)
         os.dup2(null, sys.stdout.fileno())
+        os.close(null)
     except (OSError, ValueError):  # a stdout without a file descriptor (a notebook's)
         pass
     return SIGPIPE_STATUS

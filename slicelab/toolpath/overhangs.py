@@ -36,8 +36,8 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from ..geometry.polygons import signed_area
 from ..geometry.blocks import FULL
+from ..geometry.polygons import signed_area
 from .masks import BlockMask, GridMask, dilate_mask, near_mask
 
 __all__ = ["Bridge", "EDGE_MARGIN", "LayerOverhangs", "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS"]
