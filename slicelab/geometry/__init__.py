@@ -4,7 +4,7 @@
 ``geometry.planes``         a plane's 2-D `Frame`, exact signed distances, edge crossings
 ``geometry.topology``       exact vertex ids, edge tables, shells, edge-manifold counts
 ``geometry.chains``         chaining keyed segments into loops, joining open chains
-``geometry.polygons``       signed area, point in ring, hole hierarchy, polygons
+``geometry.polygons``       signed area, loop edges, point in ring, hole hierarchy, polygons
 ``geometry.triangles``      edge cross products, winding normals, areas
 ``geometry.ragged``         groups of varying length, expanded without a Python loop
 ``geometry.contours``       marching squares, ring simplification, skeleton tracing
@@ -26,6 +26,7 @@ from .planes import NEXT_CORNER, Frame, crossing_edges, edge_points, plane_dista
 from .polygons import (
     Polygon,
     build_polygons,
+    loop_edges,
     loop_hierarchy,
     points_in_ring,
     signed_area,
@@ -47,4 +48,4 @@ __getattr__, __dir__ = attach(__name__, {**{name: "kernels" for name in _KERNELS
                                          **{name: "slice_kernels" for name in _SLICE_KERNELS},
                                          **{name: "segment_kernels" for name in _SEGMENT_KERNELS}}, globals())
 
-__all__ = ["Frame", "NEXT_CORNER", "crossing_edges", "edge_points", "plane_distances", "exact_ids", "weld", "edge_table", "shells", "EdgeCounts", "edge_counts", "manifold_summary", "Chains", "chain_segments", "join_open_chains", "signed_area", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons", "edge_cross", "winding_normals", "triangle_areas", "group_starts", "within_group", "expand_ranges", "graph_components", "thin", "thinning_table", "GUO_HALL", "crossed_cells", "march", "march_blocks", "simplify_ring", "skeleton_neighbours", "trace_skeleton", "split_segments", "join_collinear", "simplify_chains", "SegmentIndex", "EMPTY", "FULL", "BlockGrid", "blocks_near", *_KERNELS, *_MARCH_KERNELS, *_SEGMENT_KERNELS, *_SLICE_KERNELS]
+__all__ = ["Frame", "NEXT_CORNER", "crossing_edges", "edge_points", "plane_distances", "exact_ids", "weld", "edge_table", "shells", "EdgeCounts", "edge_counts", "manifold_summary", "Chains", "chain_segments", "join_open_chains", "signed_area", "loop_edges", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons", "edge_cross", "winding_normals", "triangle_areas", "group_starts", "within_group", "expand_ranges", "graph_components", "thin", "thinning_table", "GUO_HALL", "crossed_cells", "march", "march_blocks", "simplify_ring", "skeleton_neighbours", "trace_skeleton", "split_segments", "join_collinear", "simplify_chains", "SegmentIndex", "EMPTY", "FULL", "BlockGrid", "blocks_near", *_KERNELS, *_MARCH_KERNELS, *_SEGMENT_KERNELS, *_SLICE_KERNELS]

@@ -10,7 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["signed_area", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons"]
+__all__ = ["signed_area", "loop_edges", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons"]
 
 
 def signed_area(points: np.ndarray) -> float:
@@ -27,6 +27,24 @@ def signed_area(points: np.ndarray) -> float:
     q = p - p[0]  # from a vertex: keeps the sum accurate far from the origin, and its term is 0
     x, y = q[:, 0], q[:, 1]
     return float(0.5 * (np.dot(x[:-1], y[1:]) - np.dot(x[1:], y[:-1])))
+
+
+def loop_edges(loops) -> np.ndarray:
+    """Every loop's edges, (m, 2, 2): each point to the next, the last back to the first.
+
+    Examples
+    --------
+    >>> loop_edges([np.array([[0, 0], [1, 0], [0, 1]], float)]).tolist()
+    [[[0.0, 0.0], [1.0, 0.0]], [[1.0, 0.0], [0.0, 1.0]], [[0.0, 1.0], [0.0, 0.0]]]
+    """
+    loops = [lp for lp in loops if len(lp)]
+    if not loops:
+        return np.zeros((0, 2, 2))
+    pts = np.concatenate(loops)
+    stops = np.cumsum([len(lp) for lp in loops])
+    nxt = np.arange(1, len(pts) + 1)
+    nxt[stops - 1] = np.concatenate([[0], stops[:-1]])  # (one gather for all loops)
+    return np.stack([pts, pts[nxt]], axis=1)
 
 
 def loop_hierarchy(loops: list[np.ndarray], areas: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:

@@ -37,7 +37,7 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from ..geometry.blocks import FULL
-from ..geometry.polygons import signed_area
+from ..geometry.polygons import loop_edges, signed_area
 from .masks import BlockMask, GridMask, dilate_mask, near_mask
 
 __all__ = ["Bridge", "EDGE_MARGIN", "LayerOverhangs", "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS"]
@@ -300,7 +300,6 @@ def _over_exactly(points, over, below, section, rule: str) -> np.ndarray:
     around theirs decided again by their winding numbers in the section: near its boundary,
     the nearest pixel centre may lie on the other side of it."""
     from ..geometry.segment_kernels import winding_at
-    from .raster import _edges
     loops = [np.asarray(lp, np.float64) for lp in section.loops if len(lp) >= 3]
     out = np.flatnonzero(~over)
     if not loops or not len(out):
@@ -308,7 +307,7 @@ def _over_exactly(points, over, below, section, rule: str) -> np.ndarray:
     q = np.rint(points[out] / below.pixel_size).astype(np.int64)  # their pixels, as `contains` finds them
     near = out[below.at(q[:, 1, None] + _AROUND[:, 0], q[:, 0, None] + _AROUND[:, 1]).any(axis=1)]
     if len(near):
-        edges = np.ascontiguousarray(_edges(loops))
+        edges = np.ascontiguousarray(loop_edges(loops))
         w = winding_at(np.ascontiguousarray(points[near]), edges)
         over = over.copy()
         over[near] = (w != 0) if rule == "nonzero" else (w % 2 == 1)

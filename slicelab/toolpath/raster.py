@@ -29,6 +29,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..geometry.blocks import FULL, BlockGrid, blocks_near
+from ..geometry.polygons import loop_edges
 from ..geometry.spatial import split_segments
 from .masks import BlockMask, GridMask, pixels_in_boxes
 
@@ -115,18 +116,6 @@ class LayerRaster:
                 f"p={self.pixel_size:g} mm, rule={self.rule}, area={self.area:.6g} mm2)")
 
 
-def _edges(loops) -> np.ndarray:
-    """Every loop's edges, (m, 2, 2): each point to the next, the last back to the first."""
-    loops = [lp for lp in loops if len(lp)]
-    if not loops:
-        return np.zeros((0, 2, 2))
-    pts = np.concatenate(loops)
-    stops = np.cumsum([len(lp) for lp in loops])
-    nxt = np.arange(1, len(pts) + 1)
-    nxt[stops - 1] = np.concatenate([[0], stops[:-1]])  # (one gather for all loops)
-    return np.stack([pts, pts[nxt]], axis=1)
-
-
 def _crossings(edges: np.ndarray, r_first: int, r_stop: int, pixel_size: float):
     """Every crossing of an edge with a pixel-centre row in r_first .. r_stop - 1: its row, the x
     of the crossing, and the winding step (+1 or -1) of the pixels right of it.
@@ -171,7 +160,7 @@ def winding_numbers(edges: np.ndarray, row0: int, col0: int, shape, pixel_size: 
     Examples
     --------
     >>> sq = np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float)
-    >>> w = winding_numbers(_edges([sq, sq + 1]), 0, 0, (4, 4), 1.0)
+    >>> w = winding_numbers(loop_edges([sq, sq + 1]), 0, 0, (4, 4), 1.0)
     >>> w[::-1].tolist()
     [[0, 0, 0, 0], [0, 1, 1, 0], [1, 2, 1, 0], [1, 1, 0, 0]]
     """
@@ -214,7 +203,7 @@ def winding_blocks(edges: np.ndarray, blocks: BlockGrid, pixel_size: float, *, r
     --------
     >>> sq = np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float)
     >>> g = BlockGrid(2, 0, 0, np.array([[0, 1]]))
-    >>> e = _edges([sq, sq + 1])
+    >>> e = loop_edges([sq, sq + 1])
     >>> np.array_equal(np.concatenate(list(winding_blocks(e, g, 1.0)), 1), winding_numbers(e, 0, 0, (2, 4), 1.0))
     True
     >>> bits, some = winding_blocks(e, g, 1.0, rule="evenodd")
@@ -275,9 +264,9 @@ def raster_blocks(edges: np.ndarray, row0: int, col0: int, shape, pixel_size: fl
     Examples
     --------
     >>> sq = np.array([[0, 0], [20, 0], [20, 20], [0, 20]], float)
-    >>> m = raster_blocks(_edges([sq]), -3, -3, (207, 207), 0.1, band=0.5, size=16)
+    >>> m = raster_blocks(loop_edges([sq]), -3, -3, (207, 207), 0.1, band=0.5, size=16)
     >>> len(m.blocks), m.blocks.n_full, round(m.area, 6), np.array_equal(m.mask, winding_numbers(
-    ...     _edges([sq]), -3, -3, (207, 207), 0.1) != 0)
+    ...     loop_edges([sq]), -3, -3, (207, 207), 0.1) != 0)
     (48, 121, 400.0, True)
     """
     p = float(pixel_size)
@@ -367,7 +356,7 @@ def layer_mask(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margi
     if not loops:
         return None
     _, _, (r0, c0), shape = _layer_window(loops, p, margin)
-    return raster_blocks(_edges(loops), r0, c0, shape, p, rule=rule, band=band, size=block)
+    return raster_blocks(loop_edges(loops), r0, c0, shape, p, rule=rule, band=band, size=block)
 
 
 def rasterize(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margin: int = 3,
@@ -414,12 +403,12 @@ def rasterize(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margin
     boxes = np.empty((n_islands, 4), np.int64)
     # One tile for the whole layer, however many islands: each stage of a tile (distance field,
     # level sets, openings) has a fixed cost, and blocks far from every boundary cost nothing.
-    tile = raster_blocks(_edges(loops), r0, c0, shape, p, rule=rule, band=band, size=block)
+    tile = raster_blocks(loop_edges(loops), r0, c0, shape, p, rule=rule, band=band, size=block)
     seg_lists = []
     for g in range(n_islands):  # over islands: their boxes, and which of their edges bound material
         members = np.flatnonzero(group == g)
         boxes[g, 1::-1], boxes[g, 3:1:-1] = plo[members].min(axis=0), phi[members].max(axis=0)
-        edges = _edges([loops[k] for k in members])
+        edges = loop_edges([loops[k] for k in members])
         sizes = np.array([len(loops[k]) for k in members], np.int64)
         from ..geometry.segment_kernels import loops_touch
         bounds = np.concatenate([[0], np.cumsum(sizes)])
