@@ -103,14 +103,16 @@ def test_only_steep_overhangs_are_reported(angle, unsupported):
 
 @pytest.mark.parametrize("pixel", [None, 0.1])
 def test_the_threshold_holds_at_the_default_pixel_size(pixel):
-    # The default pixel is half a line (0.2 mm): a 60-degree wall steps out 0.35 mm a layer, beyond
-    # the 0.24 mm a 50-degree threshold lets it reach, and hangs on most layers (a pixel's rounding
-    # spares some); a 40-degree wall never does.
-    for angle, hangs in ((40, False), (60, True)):
-        pp = plan(ramp(angle), PrintSettings(layer_height=0.2, first_layer_height=0.2, skirt_loops=0,
-                                             pixel_size=pixel), workers=1)
-        share = float((pp.overhangs[1:, 0] > 0).mean())
-        assert share > 0.6 if hangs else share == 0, (angle, share)
+    # A wall leaning `angle` steps out h tan(angle) a layer, and what lies beyond the h tan(50)
+    # a 50-degree threshold lets it reach hangs: a strip that wide along the ramp's 10 mm, on
+    # every layer but the first. The default pixel is half a line (0.2 mm), wider than the strip
+    # at 60 degrees (0.11 mm): the pixels whose centres fall in it add up to its area all the same.
+    h = 0.2
+    for angle in (40, 45, 60, 70):
+        pp = plan(ramp(angle), PrintSettings(layer_height=h, first_layer_height=h, skirt_loops=0, pixel_size=pixel),
+                  workers=1)
+        strip = max(h * math.tan(math.radians(angle)) - h * math.tan(math.radians(50)), 0.0)
+        assert pp.overhangs[1:, 0].sum() == pytest.approx(strip * 10 * (len(pp.layers) - 1), rel=0.1, abs=1e-9), angle
 
 
 def test_a_steeper_threshold_lets_the_ramp_hold():
@@ -276,9 +278,12 @@ def test_supports_hold_only_the_edges_of_a_bridged_cap(tmp_path):
     assert pp.warnings() == []
 
 
-def test_supports_only_where_needed():
+@pytest.mark.parametrize("pixel", [0.1, 0.2])
+def test_supports_only_where_needed(pixel):
+    # At 0.2 mm pixels, what a 60-degree wall hangs beyond its reach (0.14 mm a layer) is a strip
+    # thinner than a pixel: the supports stand under all of each layer's step, which join up.
     for angle, wanted in ((30, False), (60, True)):
-        pp = plan(ramp(angle), PrintSettings(**S, support="auto"), workers=1)
+        pp = plan(ramp(angle), PrintSettings(**{**S, "pixel_size": pixel}, support="auto"), workers=1)
         got = any(_support_rows(pp).values())
         assert got == wanted, angle
     # A mid-air block beside a tower: its supports reach down to the bed.

@@ -277,6 +277,23 @@ class SegmentIndex:
     def __len__(self) -> int:
         return len(self.segments)
 
+    def within(self, points, reach: float) -> np.ndarray | None:
+        """Distance from each point to the nearest segment where it is within `reach`, inf beyond;
+        from the buckets alone (`nearest` with a `reach`), or None when they would not serve (short
+        segments, or many candidates a point): `nearest` then answers, with a k-d tree.
+
+        Examples
+        --------
+        >>> idx = SegmentIndex(np.array([[[0, 0], [10, 0]]], float), 1.0)
+        >>> idx.within(np.array([[3.0, 0.5], [3.0, 2.0]]), 1.0).tolist()
+        [0.5, inf]
+        """
+        q = np.asarray(points, np.float64).reshape(-1, 2)
+        if len(self.segments) == 0 or len(q) == 0:
+            return np.full(len(q), np.inf)
+        near = self._near(q, reach)
+        return None if near is None else near[0]
+
     def nearest(self, points, reach: float | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Distance to the nearest segment, its index, and the parameter (0..1) of the nearest point.
 

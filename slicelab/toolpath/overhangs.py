@@ -38,6 +38,7 @@ import numpy as np
 
 from ..geometry.blocks import FULL
 from ..geometry.polygons import loop_edges, signed_area
+from ..geometry.spatial import SegmentIndex
 from .masks import BlockMask, GridMask, dilate_mask, near_mask
 
 __all__ = ["Bridge", "EDGE_MARGIN", "LayerOverhangs", "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS"]
@@ -89,7 +90,10 @@ class LayerOverhangs:
         A point of the largest unheld part (mm), to name it in a warning.
     unheld : tuple of (k, 2) ndarray
         The outlines of the unheld parts (mm, polygons through their edge pixels' centres), outer
-        rings counter-clockwise and holes clockwise: where supports go.
+        rings counter-clockwise and holes clockwise: where supports go. A part unheld whole is
+        outlined with all of its step over nothing (what the wall below reaches too): on a
+        leaning wall, what hangs beyond the reach is a strip narrower than a pixel that moves
+        along the wall from layer to layer, and supports under it alone would not join up.
     angle : float
         The steepest overhang measured (degrees from the vertical): how far the layer reaches
         beyond the one below, over the layer height; 0 when it stays within the threshold.
@@ -121,39 +125,46 @@ def _within(radius: float) -> np.ndarray:
     return (yy * yy + xx * xx <= radius * radius).astype(np.uint8)
 
 
-def _hanging_window(below, diff, radius: float):
+def _hanging_window(below, diff, radius: float, hangs=None):
     """The window (row0, col0, shape) of the pixels of `diff` with no pixel of `below` within
-    `radius` pixels (centre to centre), or None if there are none.
+    `radius` pixels (centre to centre), or None if there are none; and the (rows, cols) of
+    those `hangs` says do not hang after all (or None).
 
     On block masks the test runs on the blocks of `diff` alone (`near_mask`): its cost follows
-    the few blocks where the layers differ, not the layer.
+    the few blocks where the layers differ, not the layer. `hangs(xy)` (optional) tells from
+    the pixels' centres (mm) which hang: an exact test, or None when it cannot say.
     """
     kernel = _within(radius)
     if not (isinstance(diff, BlockMask) and isinstance(below, BlockMask) and diff.blocks.size == below.blocks.size):
         return _crop(GridMask(diff.mask & ~dilate_mask(below, kernel).window(diff.row0, diff.col0, diff.shape),
-                              diff.row0, diff.col0, diff.pixel_size))
+                              diff.row0, diff.col0, diff.pixel_size)), None
     g = diff.blocks
     bsz = g.size
     free = diff.bits & ~near_mask(below, g.rows, g.cols, kernel)
     full = g.n_full > 0  # a whole block over nothing: its pixels may all hang
     if not (full or free.any()):  # (most layers)
-        return None
+        return None, None
     kk, rr, cc = np.nonzero(free)
     rows, cols = g.rows[kk] * bsz + rr, g.cols[kk] * bsz + cc
+    refuted = None
+    keep = hangs(np.stack([cols, rows], 1) * diff.pixel_size) if hangs is not None and len(rows) else None
+    if keep is not None and not keep.all():
+        refuted = rows[~keep], cols[~keep]
+        rows, cols = rows[keep], cols[keep]
     if full:
         fr, fc = np.nonzero(g.table == FULL)
         fr, fc = (fr + g.row0) * bsz, (fc + g.col0) * bsz
         rows = np.concatenate((rows, fr, fr + bsz - 1))
         cols = np.concatenate((cols, fc, fc + bsz - 1))
     if len(rows) == 0:
-        return None
+        return None, None
     r0, c0 = int(rows.min()), int(cols.min())
-    return r0, c0, (int(rows.max()) - r0 + 1, int(cols.max()) - c0 + 1)
+    return (r0, c0, (int(rows.max()) - r0 + 1, int(cols.max()) - c0 + 1)), refuted
 
 
 def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0, islands=None,
                     min_anchor: float | None = None, edge_band: float | None = None,
-                    angle: float = 0.0) -> LayerOverhangs:
+                    angle: float = 0.0, below_section=None) -> LayerOverhangs:
     """Bridges, unheld overhang and mid-air islands of a layer.
 
     Parameters
@@ -179,6 +190,10 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
     angle : float, default 0
         Direction (degrees) of such a one-sided bridge's lines when it surrounds its anchor (a
         mushroom's cap around its stem); otherwise they run from the anchor towards the part.
+    below_section : Section, optional
+        The layer below's section: a pixel the masks find hanging is then checked against it, its
+        centre's exact distance to the section's boundary against the reach (the masks put that
+        boundary half a pixel beyond the last pixel below, give or take half a pixel).
 
     Returns
     -------
@@ -222,7 +237,17 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
     # A first, cheap pass, block by block: a pixel hangs when no pixel of the layer below lies
     # within the reach and half a pixel of it (the test the distances below make), so the layer
     # below dilated by that disc leaves exactly the hanging pixels: most layers end here.
-    window = _crop(diff) if below is None else _hanging_window(below, diff, reach / p + 0.5)
+    hangs = None
+    loops = [lp for lp in below_section.loops if len(lp) >= 3] if below_section is not None and below is not None \
+        else []
+    if loops:  # near the threshold, the section's exact distances decide
+        index = SegmentIndex(loop_edges(loops), 4 * p)
+
+        def hangs(xy):
+            d = index.within(xy, reach + 2 * p)
+            return None if d is None else d > reach
+
+    window, refuted = (_crop(diff), None) if below is None else _hanging_window(below, diff, reach / p + 0.5, hangs)
     if window is None:
         return LayerOverhangs(mid_air=mid_air)
     margin = int(math.ceil(reach / p)) + 3
@@ -234,6 +259,10 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
     # between pixel centres: the edge of the material below lies half a pixel before its last one.
     dist = cv2.distanceTransform((~held).astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE) * p
     hanging = free & (dist - 0.5 * p > reach)
+    if refuted is not None:  # farther than the reach from the pixels below, not from their section
+        inside = (refuted[0] >= row0) & (refuted[0] < row0 + shape[0]) & (refuted[1] >= col0) & \
+            (refuted[1] < col0 + shape[1])
+        hanging[refuted[0][inside] - row0, refuted[1][inside] - col0] = False
     steepest = math.degrees(math.atan2(max(float(dist[free].max()) - 0.5 * p, 0.0), layer_height)) \
         if free.any() else 0.0
     count, labels, stats, _ = cv2.connectedComponentsWithStats(hanging.astype(np.uint8), connectivity=8)
@@ -277,13 +306,15 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
             out = math.degrees(math.atan2(yp - ya0, xp - xa0)) if math.hypot(xp - xa0, yp - ya0) > 2 else angle
             bridges.append(Bridge(GridMask(region, row0 + ya, col0 + xa, p), out,
                                   float(dist[ya:yb, xa:xb][part].max())))
-            part = band
+            part = footprint = band
             if not part.any():
                 continue
+        else:  # held nowhere: supports hold all of its step over nothing, not only what hangs beyond the reach
+            footprint = region
         px = int(np.count_nonzero(part))
         area += px * p * p
         # Its outline and holes (an edge band is a ring), turned as `LayerOverhangs.unheld` says.
-        contours, tree = cv2.findContours(part.astype(np.uint8), cv2.RETR_CCOMP, cv2.CHAIN_APPROX_SIMPLE)
+        contours, tree = cv2.findContours(footprint.astype(np.uint8), cv2.RETR_CCOMP, cv2.CHAIN_APPROX_SIMPLE)
         for c, (_, _, _, parent) in zip(contours, tree[0] if tree is not None else ()):  # over rings, few
             if len(c) >= 3:
                 r = (c.reshape(-1, 2) + (col0 + xa, row0 + ya)) * p

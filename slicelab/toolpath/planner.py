@@ -231,7 +231,8 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
         ov = None
         if k > 0 and masks[k] is not None:  # the first layer lies on the bed
             ov = layer_overhangs(masks[k], masks.get(k - 1), s.layer_height, threshold=s.overhang_threshold,
-                                 islands=rasters[k], edge_band=edge_band, angle=solid_angle)
+                                 islands=rasters[k], edge_band=edge_band, angle=solid_angle,
+                                 below_section=sections.get(k - 1))
         bridges = list(ov.bridges) if ov else []
         if s.infill_density < 1 and k > 0:  # a skin's first layer over sparse infill bridges it
             inner = internal_bridge(solid, masks.get(k - 1), below_solid, s.line_width, solid_angle)
