@@ -243,10 +243,16 @@ def test_supports_hold_the_cap_of_a_mushroom(tmp_path):
     along = np.abs(seg[:, 1]) < 1e-9
     area = 16 * 16 - (4 + 2 * s.support_xy_gap) ** 2
     assert np.abs(seg[along, 0]).sum() == pytest.approx(area / (s.support_spacing + s.line_width), rel=0.2)
-    # A sheath: a loop along the cap's outline and one around the stem's gap.
+    # A sheath: a loop along the cap's outline and one around the stem's gap (none when asked).
     from slicelab.geometry.polygons import signed_area
     assert sorted(abs(signed_area(q)) for q in loops) == [pytest.approx((4 + 2 * s.support_xy_gap) ** 2, rel=0.25),
                                                           pytest.approx(16 * 16, rel=0.1)]
+    bare = plan(mushroom(), PrintSettings(**S, support="auto", dont_support_bridges=False, support_sheath=False),
+                workers=1)
+    assert not [q for kind, q in _support_rows(bare)[2] if kind == "support" and np.array_equal(q[0], q[-1])]
+    assert {k: len(v) for k, v in _support_rows(bare).items() if v} == \
+        {k: len([r for r in v if not (r[0] == "support" and np.array_equal(r[1][0], r[1][-1]))])
+         for k, v in rows.items() if v}
     assert pp.warnings() == []  # held
     path = tmp_path / "m.gcode"
     write_gcode(pp, path)

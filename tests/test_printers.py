@@ -72,10 +72,10 @@ def test_cli_config_printer_and_print_config(tmp_path, data_dir):
     f = tmp_path / "p.toml"
     f.write_text('printer = "generic-marlin-220"\n[settings]\nlayer_height = 0.25\n')
     r = run("slice", data_dir / "cube_with_hole.stl", "-o", tmp_path / "x.gcode", "--config", f,
-            "--infill-density", "35%", "--no-dont-support-bridges", "--print-config")
+            "--infill-density", "35%", "--no-dont-support-bridges", "--no-support-sheath", "--print-config")
     assert r.returncode == 0, r.stderr
     shown = r.stdout
-    assert "dont_support_bridges = false" in shown
+    assert "dont_support_bridges = false" in shown and "support_sheath = false" in shown
     assert "bed_size = [220.0, 220.0]" in shown and "layer_height = 0.25" in shown
     assert "infill_density = 0.35" in shown and not (tmp_path / "x.gcode").exists()
     (tmp_path / "shown.toml").write_text(shown)

@@ -173,6 +173,8 @@ def _add_slice(sub) -> None:
     p.add_argument("--dont-support-bridges", action=argparse.BooleanOptionalAction, default=GIVEN,
                    help="bridge what the layer below holds on one side only, supporting only a band along its "
                         "outline, as PrusaSlicer does (default); --no-dont-support-bridges supports it whole")
+    p.add_argument("--support-sheath", action=argparse.BooleanOptionalAction, default=GIVEN,
+                   help="a loop around each region of sparse support (default), as PrusaSlicer does")
     p.add_argument("--seam-position", choices=("aligned", "rear", "nearest"), default=GIVEN,
                    help="where perimeter loops start: aligned with the layer below (default), at the rear, or "
                         "nearest the nozzle")

@@ -426,7 +426,8 @@ def _with_supports(layers: list, sections: list, unheld: list, s: PrintSettings)
     rows = support_paths(sections, unheld, mode=s.support, line_width=s.line_width,
                          spacing=s.support_spacing + s.line_width,
                          interface_spacing=s.support_interface_spacing + s.line_width, xy_gap=s.support_xy_gap,
-                         z_gap_layers=s.support_z_gap_layers, interface_layers=s.support_interface_layers)
+                         z_gap_layers=s.support_z_gap_layers, interface_layers=s.support_interface_layers,
+                         sheath=s.support_sheath)
     return [lp.inserted(sum(k in ("skirt", "brim") for k in lp.kind), [(k, q, lp.line_width) for k, q in extra])
             for lp, extra in zip(layers, rows)]  # over layers
 

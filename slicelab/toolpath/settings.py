@@ -90,7 +90,8 @@ class Supports:
     below on one side only is bridged out from that side, and only a band along its outline (the
     perimeters and 2 mm more, `slicelab.toolpath.overhangs.EDGE_MARGIN`) is unheld: supports hold
     that band; without it, such material is unheld whole. Held on two sides, it is a bridge either
-    way."""
+    way. `support_sheath` (PrusaSlicer's default too) puts a loop around each region of sparse
+    support, so that a narrow band stands."""
 
     support: str = "off"
     support_spacing: float = 2.5
@@ -99,6 +100,7 @@ class Supports:
     support_xy_gap: float = 0.6
     support_z_gap_layers: int = 1
     dont_support_bridges: bool = True
+    support_sheath: bool = True
 
 
 @dataclass(frozen=True)
@@ -312,7 +314,7 @@ class PrintSettings:
             raise ValueError(f"support must be off, auto or bed, got {self.support!r}")
         if self.seam_position not in ("nearest", "rear", "aligned"):
             raise ValueError(f"seam_position must be nearest, rear or aligned, got {self.seam_position!r}")
-        for name in ("external_perimeters_first", "dont_support_bridges"):
+        for name in ("external_perimeters_first", "dont_support_bridges", "support_sheath"):
             if not isinstance(getattr(self, name), (bool, np.bool_)):
                 raise ValueError(f"{name} must be true or false, got {getattr(self, name)!r}")
         if self.rule not in ("nonzero", "evenodd"):

@@ -177,7 +177,8 @@ def _polygons(mask: np.ndarray, row0: int, col0: int, pixel: float, min_area: fl
 
 def support_paths(sections, unheld, *, mode: str = "auto", line_width: float = 0.4, spacing: float = 2.5,
                   interface_spacing: float = 0.6, xy_gap: float = 0.6, z_gap_layers: int = 1,
-                  interface_layers: int = 2, angle: float = 0.0, pixel: float = PIXEL) -> list[list]:
+                  interface_layers: int = 2, angle: float = 0.0, sheath: bool = True,
+                  pixel: float = PIXEL) -> list[list]:
     """The supports' toolpath rows of every layer: ``(kind, polyline)``, kind ``"support"`` or
     ``"support_interface"``.
 
@@ -191,6 +192,8 @@ def support_paths(sections, unheld, *, mode: str = "auto", line_width: float = 0
     angle : float
         Direction of the sparse lines (degrees); alternate layers turn them by 90, and the
         interface runs across them.
+    sheath : bool, default True
+        A loop around each region of sparse lines (and its holes).
 
     Returns
     -------
@@ -214,7 +217,7 @@ def support_paths(sections, unheld, *, mode: str = "auto", line_width: float = 0
             # A sheath: a loop around each region (and its holes) binds its lines together, so a
             # narrow band (an edge of a bridge, `LayerOverhangs.unheld`) stands, as PrusaSlicer's
             # default ``support_material_with_sheath`` does.
-            rows += [("support", np.concatenate((r, r[:1]))) for q in sparse for r in (q.exterior, *q.holes)]
+            rows += [("support", np.concatenate((r, r[:1]))) for q in sparse if sheath for r in (q.exterior, *q.holes)]
             rows += [("support", q) for q in rectilinear(sparse, spacing, turn)]
             if inter is not None:
                 rows += [("support_interface", q) for q in
