@@ -238,13 +238,11 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
     # within the reach and half a pixel of it (the test the distances below make), so the layer
     # below dilated by that disc leaves exactly the hanging pixels: most layers end here.
     hangs = None
-    loops = [lp for lp in below_section.loops if len(lp) >= 3] if below_section is not None and below is not None \
-        else []
-    if loops:  # near the threshold, the section's exact distances decide
-        index = SegmentIndex(loop_edges(loops), 4 * p)
+    if below_section is not None and below is not None:  # near the threshold, the section's exact distances decide
 
-        def hangs(xy):
-            d = index.within(xy, reach + 2 * p)
+        def hangs(xy):  # (called only on layers with pixels found hanging: the index is made then)
+            loops = [lp for lp in below_section.loops if len(lp) >= 3]
+            d = SegmentIndex(loop_edges(loops), 4 * p).within(xy, reach + 2 * p) if loops else None
             return None if d is None else d > reach
 
     window, refuted = (_crop(diff), None) if below is None else _hanging_window(below, diff, reach / p + 0.5, hangs)
@@ -272,11 +270,15 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
     bridges, area, worst, where, outlines = [], 0.0, 0, None, []
     h, w = shape
     edge = None
-    if edge_band is not None:  # distances to the layer's outline, from a window wide enough to see it
-        b = int(math.ceil(edge_band / p)) + 1
-        inside = mine.window(row0 - b, col0 - b, (h + 2 * b, w + 2 * b)).astype(np.uint8)
-        edge = cv2.distanceTransform(inside, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)[b:b + h, b:b + w] * p \
-            <= edge_band + 0.5 * p
+
+    def near_edge():  # the window's pixels within the band of the layer's outline, made on first need
+        nonlocal edge
+        if edge is None:  # (distances to the outline, from a window wide enough to see it)
+            b = int(math.ceil(edge_band / p)) + 1
+            inside = mine.window(row0 - b, col0 - b, (h + 2 * b, w + 2 * b)).astype(np.uint8)
+            edge = cv2.distanceTransform(inside, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)[b:b + h, b:b + w] * p \
+                <= edge_band + 0.5 * p
+        return edge
     for k in range(1, count):  # over the hanging parts, few
         if stats[k, cv2.CC_STAT_AREA] < min_px:
             continue
@@ -297,7 +299,7 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
             bridges.append(Bridge(GridMask(region, row0 + ya, col0 + xa, p), angle,
                                   math.hypot(x1 - x0, y1 - y0) * p))
             continue
-        band = edge[ya:yb, xa:xb] & part if big and edge is not None else None
+        band = near_edge()[ya:yb, xa:xb] & part if big and edge_band is not None else None
         # Held on one side: bridged out from it, all but the edge band (a part within the band,
         # a sliver along a leaning wall, has nothing to bridge and stays unheld whole).
         if band is not None and np.count_nonzero(part) - np.count_nonzero(band) >= min_px:
