@@ -38,7 +38,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..geometry.polygons import Polygon, signed_area
+from ..geometry.polygons import Polygon, loop_edges, signed_area
 from .infill import rectilinear
 from .masks import GridMask
 from .perimeters import level_polygons, mask_rings
@@ -50,17 +50,6 @@ __all__ = ["PIXEL", "SUPPORTS", "support_masks", "support_paths"]
 PIXEL = 0.2
 #: Support modes: none, where needed (on the bed or the part), only where they reach the bed.
 SUPPORTS = ("off", "auto", "bed")
-
-
-def _rings_edges(rings) -> np.ndarray:
-    """Edges of closed rings as they turn (outer rings and holes turn opposite ways)."""
-    out = []
-    for r in rings:  # over outlines, few
-        r = np.asarray(r, np.float64)
-        if len(r) < 3:
-            continue
-        out.append(np.stack([r, np.concatenate((r[1:], r[:1]))], 1))
-    return np.concatenate(out) if out else np.zeros((0, 2, 2))
 
 
 def support_masks(sections, unheld, *, mode: str = "auto", xy_gap: float = 0.6, z_gap_layers: int = 1,
@@ -124,7 +113,9 @@ def support_masks(sections, unheld, *, mode: str = "auto", xy_gap: float = 0.6, 
         return winding_numbers(s.segments, row0, col0, shape, pixel) != 0
 
     def hanging(j):
-        e = _rings_edges(unheld[j]) if 0 <= j < n else np.zeros((0, 2, 2))
+        # (the rings as they turn: outer rings and holes turn opposite ways)
+        e = loop_edges([np.asarray(r, np.float64) for r in unheld[j] if len(r) >= 3]) if 0 <= j < n \
+            else np.zeros((0, 2, 2))
         if not len(e):
             return None
         # Inside the outlines, and every pixel they pass through: a strip narrower than a pixel
