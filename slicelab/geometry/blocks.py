@@ -260,16 +260,18 @@ class BlockGrid:
         """
         q = self.size + 2 * int(halo)
         out = np.empty((len(self), q, 1, q), data.dtype)
-        self._fill(out, data, int(halo), empty, full)
+        self._fill(out, data, int(halo), empty, full, self.rows, self.cols)
         return out.reshape(len(self), q, q)
 
-    def mosaic(self, data: np.ndarray, halo: int, empty, full, *, gap: int = 0) -> np.ndarray:
+    def mosaic(self, data: np.ndarray, halo: int, empty, full, *, gap: int = 0, at=None) -> np.ndarray:
         """The blocks with their halos (`pack`) side by side in one wide image, rows of blocks.
 
         OpenCV's filters run several times faster on a wide image than on a
         tall column of small blocks. `gap` rows and columns of zeros part the
         blocks; slots past the last block are zeros. `cores` takes the blocks'
-        own pixels back.
+        own pixels back. `at` (world block rows, cols) lays out those blocks
+        instead of the active ones, their pixels and halos read from this grid
+        all the same (another mask's blocks, say).
 
         Returns
         -------
@@ -277,36 +279,41 @@ class BlockGrid:
         """
         h = int(halo)
         q = self.size + 2 * h + gap
-        m, rows = self._layout(q)
-        img = np.zeros((rows, q, m, q), data.dtype)
-        self._fill(img, data, h, empty, full)
-        return img.reshape(rows * q, m * q)
+        rows, cols = (self.rows, self.cols) if at is None else \
+            (np.asarray(at[0], np.int64), np.asarray(at[1], np.int64))
+        m, n_rows = self._layout(q, len(rows))
+        img = np.zeros((n_rows, q, m, q), data.dtype)
+        self._fill(img, data, h, empty, full, rows, cols)
+        return img.reshape(n_rows * q, m * q)
 
-    def cores(self, image: np.ndarray, halo: int, *, gap: int = 0) -> np.ndarray:
-        """The blocks' own pixels, (n, B, B), from an image laid out by `mosaic`."""
+    def cores(self, image: np.ndarray, halo: int, *, gap: int = 0, n: int | None = None) -> np.ndarray:
+        """The blocks' own pixels, (n, B, B), from an image laid out by `mosaic` (of `n` blocks when
+        laid out `at` others)."""
         b, h = self.size, int(halo)
         q = b + 2 * h + gap
-        m, rows = self._layout(q)
+        n = len(self) if n is None else int(n)
+        m, rows = self._layout(q, n)
         v = image.reshape(rows, q, m, q)[:, h:h + b, :, h:h + b].transpose(0, 2, 1, 3)
-        return v.reshape(rows * m, b, b)[:len(self)]
+        return v.reshape(rows * m, b, b)[:n]
 
-    def _layout(self, q: int) -> tuple[int, int]:
-        """Blocks per row of a mosaic of cells q pixels wide (about 2000 pixels), and its rows."""
-        n = len(self)
+    @staticmethod
+    def _layout(q: int, n: int) -> tuple[int, int]:
+        """Blocks per row of a mosaic of n cells q pixels wide (about 2000 pixels), and its rows."""
         m = max(1, min(n, 2048 // q))
         return m, max(1, -(-n // m))
 
-    def _fill(self, out: np.ndarray, data: np.ndarray, h: int, empty, full) -> None:
-        """Write block k and its halo into ``out[k // m, :, k % m, :]`` of a (rows, q, m, q) canvas."""
+    def _fill(self, out: np.ndarray, data: np.ndarray, h: int, empty, full, rows, cols) -> None:
+        """Write block k (world block rows[k], cols[k]) and its halo into ``out[k // m, :, k % m, :]``
+        of a (rows, q, m, q) canvas."""
         from .kernels import fill_blocks
         if h < 0:
             raise ValueError(f"a halo must be >= 0 pixels, got {h}")
-        if len(self) == 0:
+        if len(rows) == 0:
             return
         data = np.ascontiguousarray(data)
         # One compiled loop over the blocks and the neighbours their halos reach.
         fill_blocks(out, data, h, data.dtype.type(empty), data.dtype.type(full), self.table, self.row0, self.col0,
-                    self.rows, self.cols)
+                    rows, cols)
 
     def assemble(self, data: np.ndarray, empty, full, row0: int, col0: int, shape) -> np.ndarray:
         """The values of a window of world pixels as one array (`sample` over the window)."""

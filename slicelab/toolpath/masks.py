@@ -414,22 +414,13 @@ def near_mask(mask: BlockMask, brows, bcols, kernel: np.ndarray) -> np.ndarray:
     [[[1, 0], [1, 0]]]
     """
     import cv2
-
-    from ..geometry.kernels import fill_blocks
     g = mask.blocks
-    b, r = g.size, kernel.shape[0] // 2
-    brows, bcols = np.asarray(brows, np.int64), np.asarray(bcols, np.int64)
-    n = len(brows)
-    if n == 0:
-        return np.zeros((0, b, b), bool)
-    q = b + 2 * r
-    m = max(1, min(n, 2048 // q))  # blocks side by side in rows of about 2000 pixels, as a mosaic
-    rows = -(-n // m)
-    image = np.zeros((rows, q, m, q), np.uint8)
-    fill_blocks(image, np.ascontiguousarray(mask.bits).view(np.uint8), r, np.uint8(0), np.uint8(1), g.table,
-                g.row0, g.col0, brows, bcols)
-    grown = cv2.dilate(image.reshape(rows * q, m * q), kernel).reshape(rows, q, m, q)
-    return grown[:, r:r + b, :, r:r + b].transpose(0, 2, 1, 3).reshape(rows * m, b, b)[:n].view(bool)
+    r = kernel.shape[0] // 2
+    at = (np.asarray(brows, np.int64), np.asarray(bcols, np.int64))
+    if len(at[0]) == 0:
+        return np.zeros((0, g.size, g.size), bool)
+    image = g.mosaic(mask.bits.view(np.uint8), r, np.uint8(0), np.uint8(1), at=at)
+    return g.cores(cv2.dilate(image, kernel), r, n=len(at[0])).view(bool)
 
 
 def pixels_in_boxes(mask, boxes) -> np.ndarray:
