@@ -1,4 +1,4 @@
-"""Where a layer's time goes: 100 middle layers of a part planned in this process, timed, then profiled.
+"""Where a layer's time goes: 100 layers of a part (from a quarter up, or `--first`) planned in this process, timed, then profiled.
 
 The layers go through the planner's own per-run function (`slicelab.toolpath.planner`),
 runs of 20 layers with the neighbours their skins read, as a pool's worker gets them,
@@ -21,7 +21,8 @@ skin's weight it implies, and the costliest layers. ``--scale S`` scales the par
 from a point of our perimeters (every 0.02 mm along them) to the exact offsets, and its 99.9th
 and 99th percentiles. The reference is GEOS's offset, computed in the same run.
 
-    python scripts/profile_layers.py [MESH] [--top 35] [--pixel-size P] [--accuracy] [--costs] [--scale S]
+    python scripts/profile_layers.py [MESH] [--top 35] [--pixel-size P] [--first K] [--layers 100]
+                                     [--accuracy] [--costs] [--scale S]
 """
 from __future__ import annotations
 
@@ -149,6 +150,8 @@ def main() -> None:
     ap.add_argument("--accuracy", action="store_true", help="the perimeters against shapely's offsets instead")
     ap.add_argument("--costs", action="store_true", help="every layer's time against the planner's cost terms")
     ap.add_argument("--scale", type=float, default=None, help="scale the part to this size (mm) first")
+    ap.add_argument("--first", type=int, default=None, help="first layer profiled (default: a quarter up)")
+    ap.add_argument("--layers", type=int, default=100, help="layers profiled, in runs of 20")
     args = ap.parse_args()
     mesh = slicelab.load(args.mesh)
     if args.scale:
@@ -168,8 +171,8 @@ def main() -> None:
     bounds = planner.layer_bounds(float(hi[2] - lo[2]), s.layer_height, s.first_layer_height)
     sections = slice_layers(mesh, heights=lo[2] + bounds.mean(axis=1))
     n = len(sections)
-    first = max(n // 4, s.bottom_layers + 1)
-    stop = min(first + 100, n - s.top_layers - 20)
+    first = max(n // 4, s.bottom_layers + 1) if args.first is None else args.first
+    stop = min(first + args.layers, n - s.top_layers - 20)
     runs = range(first, stop, 20)
 
     def plan_runs():
