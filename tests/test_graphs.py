@@ -137,17 +137,26 @@ def test_a_slice_imports_neither_scipy_nor_scikit_image(tmp_path):
     probe = ("import atexit, runpy, sys; sys.argv = sys.argv[1:]; "
              "atexit.register(lambda: print('loaded:', sorted(m for m in ('scipy', 'skimage', 'numpy.ma') "
              "if m in sys.modules))); runpy.run_module('slicelab', run_name='__main__')")
-    from slicelab import save
+    from slicelab import Mesh, save
     from slicelab.samples import box
     wall = tmp_path / "wall.stl"
     save(box((0, 0, 0), (20, 1.0, 1)), wall)  # a wall 1 mm thick: gap fill between its perimeters
-    for part, more in ((wall, []), (ROOT / "data" / "mushroom.stl", ["--support", "auto"])):
+    # A block whose corner at (20, 10, 5) is one single-precision step off on one facet: --repair
+    # snaps it (near-coincident vertices, without a k-d tree) and makes windings agree.
+    t = box((0, 0, 0), (20, 10, 5)).triangles.astype(np.float32)
+    corner = np.flatnonzero(np.all(t.reshape(-1, 3) == (20, 10, 5), axis=1))[0]
+    t.reshape(-1, 3)[corner, 0] = np.nextafter(np.float32(20), np.float32(21))
+    noisy = tmp_path / "noisy.stl"
+    save(Mesh(t.astype(np.float64)), noisy)
+    for part, more in ((wall, []), (ROOT / "data" / "mushroom.stl", ["--support", "auto"]), (noisy, ["--repair"])):
         out = tmp_path / "part.gcode"
         r = subprocess.run([sys.executable, "-c", probe, "slicelab", "slice", str(part), "-o", str(out),
                             "--workers", "1", *more], capture_output=True, text=True, cwd=ROOT)
         assert r.returncode == 0, r.stderr
         assert "loaded: []" in r.stdout
-        assert out.read_bytes().count(b";TYPE:Gap fill" if part == wall else b";TYPE:Support material") > 0
+        assert out.read_bytes().count({wall: b";TYPE:Gap fill", noisy: b";TYPE:External perimeter"}.get(
+            part, b";TYPE:Support material")) > 0
+        assert part != noisy or "snapped 1 near-coincident vertices" in r.stdout + r.stderr
 
 
 def _chains_by_list_ranking(start_key, end_key):

@@ -45,6 +45,30 @@ def test_float_noise_opens_edges_that_repair_closes(rng):
     assert any("near-coincident" in c for c in fixed.report.changes())
 
 
+def test_single_precision_copies_of_a_vertex_are_snapped_through_an_stl_file(tmp_path, rng):
+    """Copies of a vertex one float32 unit in the last place apart (as in PrusaSlicer's frog_legs.stl),
+    written to an STL file and read back: open edges there, watertight after repair."""
+    m = Mesh(torus(25, 8, 48, 24).triangles + (40, 30, 8))
+    t = m.triangles.astype(np.float32)
+    corners = t.reshape(-1, 3)
+    # Some corners of some facets moved to the next float32 up in y, their copies on the
+    # neighbouring facets left: open seams that exact welding sees.
+    moved = np.unique(np.round(corners[rng.random(len(corners)) < 0.02], 3), axis=0)
+    for v in moved:
+        hit = np.flatnonzero(np.all(np.abs(corners - v) < 1e-3, axis=1))
+        corners[hit[:1], 1] = np.nextafter(corners[hit[:1], 1], np.float32(np.inf))
+    path = tmp_path / "ulp.stl"
+    save(Mesh(t.astype(np.float64)), path)
+    noisy = load(path)
+    before = check(noisy)
+    assert before.n_open_edges > 0 and before.n_near_vertices > 0
+    fixed = repair(noisy)
+    after = check(fixed.mesh)
+    assert after.watertight and after.n_near_vertices == 0
+    assert fixed.report.n_snapped_vertices > 0
+    assert after.volume == pytest.approx(check(m).volume, rel=1e-5)
+
+
 def test_a_clean_mesh_is_returned_unchanged():
     m = torus(30, 10, 24, 12)
     fixed = repair(m)
@@ -126,3 +150,24 @@ def test_noisy_mesh_cuts_closed_after_repair(rng, tmp_path):
     for k, part in enumerate(cut(fixed, (0, 0, 5), (0.3, 0.1, 1))):
         write_mesh(part, tmp_path / f"{k}.stl")
         assert check(load(tmp_path / f"{k}.stl")).watertight
+
+
+@pytest.mark.parametrize("tol", [1e-5, 1e-3, 0.05])
+def test_near_vertex_pairs_are_those_a_kd_tree_finds(rng, tol):
+    """Every pair within the tolerance, and no other, against SciPy's k-d tree: clusters of
+    copies moved by about the tolerance (some just inside it, some just beyond), on a lattice
+    (many points share coordinates, as on CAD faces) and at random."""
+    from scipy.spatial import cKDTree
+
+    from slicelab.mesh import near_vertex_pairs
+    grid = np.stack(np.meshgrid(*[np.arange(0.0, 12, 1.5)] * 3), -1).reshape(-1, 3)
+    v = np.concatenate([grid, rng.uniform(-40, 40, (3000, 3))])
+    pick = rng.integers(0, len(v), 600)
+    step = rng.normal(size=(600, 3))
+    step *= (tol * rng.uniform(0.5, 1.5, 600) / np.linalg.norm(step, axis=1))[:, None]
+    v = np.concatenate([v, v[pick] + step, v[pick[:100]] - step[:100]])
+    ours = near_vertex_pairs(v, tol)
+    theirs = np.sort(cKDTree(v).query_pairs(tol, output_type="ndarray"), axis=1)
+    theirs = theirs[np.lexsort((theirs[:, 1], theirs[:, 0]))]
+    assert len(ours) > 100
+    assert np.array_equal(ours, theirs)

@@ -49,10 +49,11 @@ class MeshReport:
     bounds : tuple
         ((xmin, ymin, zmin), (xmax, ymax, zmax)).
     n_near_vertices : int
-        Vertices on open edges that lie within 1e-9 of the bounding-box
-        diagonal of another such vertex: CAD float noise (a coordinate of
-        3.4e-17 where 0 is meant) rather than a real hole. `slicelab.repair`
-        snaps them.
+        Vertices on open edges that lie within `slicelab.mesh.default_tolerance`
+        (8 single-precision units in the last place of the largest coordinate) of
+        another such vertex: CAD float noise (a coordinate of 3.4e-17 where 0 is
+        meant, or a copy of a vertex a unit in the last place away) rather than a
+        real hole. `slicelab.repair` snaps them.
     """
 
     n_facets: int

@@ -241,8 +241,8 @@ def _slice_feasible(inp, p):
     # An open or inside-out mesh has no inside: its layers would print fragments (pins for a plate).
     why = _open_input(inp)
     if why:
-        raise ValueError(f"{inp.path}: {why[0]['message']}; its layers would not be closed regions "
-                         f"(slicelab repair can close CAD noise: --repair)")
+        hint = "" if "--repair" in why[0]["message"] else " (slicelab repair can close CAD noise: --repair)"
+        raise ValueError(f"{inp.path}: {why[0]['message']}; its layers would not be closed regions{hint}")
     s = _settings(p)
     check_print(inp.mesh, layer_height=min(s.layer_height, s.first_layer_height), pixel_size=s.pixel_size,
                 line_width=s.line_width, n_perimeters=s.n_perimeters)
