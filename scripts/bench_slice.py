@@ -8,7 +8,8 @@ the 1M-facet torus (`data/large/torus_1m.stl`, 80 mm), a 20 mm deck bridged betw
 two pillars (`data/bridge.stl`) and a mushroom whose 40 mm cap hangs 15 mm out
 (`data/mushroom.stl`, sliced with supports on both sides: `--support auto`,
 `--support-material` with slicelab's support settings, `PRUSA_SUPPORT`). `--mesh` (repeatable) runs other files instead, with supports given
-`--support`; `--prusa-arg` hands PrusaSlicer a further argument. Per part, the
+`--support`; `--prusa-arg` hands PrusaSlicer a further argument, `--slicelab-arg` slicelab
+(`--slicelab-arg=--repair` for a file with float noise, which PrusaSlicer repairs unasked). Per part, the
 length each tool extrudes under each ``;TYPE:`` word (bridges, supports, ...) and the
 print time each announces are printed too.
 
@@ -209,6 +210,7 @@ def bench_part(label: str, mesh: Path, scale: float | None, args, prusa: str | N
         cmd += ["--workers", str(args.workers)]
     if args.preview:
         cmd += ["--preview", str(tmp / "preview")]
+    cmd += list(args.slicelab_arg)
     print(f"\n=== {label}: {mesh.name}" + (f" x {factor[0]}" if factor else ""))
     theirs = tmp / "prusa.gcode"
     pcmd = [prusa, "--export-gcode", "--layer-height", str(LAYER), "--first-layer-height", str(LAYER),
@@ -282,6 +284,8 @@ def main(argv=None) -> int:
     ap.add_argument("--repeat", type=int, default=1, help="alternating runs per tool (median wall time)")
     ap.add_argument("--preview", action="store_true", help="slicelab draws its previews too (--preview DIR)")
     ap.add_argument("--support", action="store_true", help="the --mesh parts with supports on both sides")
+    ap.add_argument("--slicelab-arg", action="append", default=[], metavar="ARG",
+                    help="a further argument for slicelab slice (repeatable; --slicelab-arg=--repair for a flag)")
     ap.add_argument("--prusa-arg", action="append", default=[], metavar="ARG",
                     help="a further argument for PrusaSlicer (repeatable; --prusa-arg=--flag for a flag), "
                          "to see where a difference comes from")
