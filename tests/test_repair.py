@@ -171,3 +171,54 @@ def test_near_vertex_pairs_are_those_a_kd_tree_finds(rng, tol):
     theirs = theirs[np.lexsort((theirs[:, 1], theirs[:, 0]))]
     assert len(ours) > 100
     assert np.array_equal(ours, theirs)
+
+
+def _holed(mesh: Mesh, keep) -> Mesh:
+    """The mesh without the facets `keep` leaves out (holes where they were)."""
+    return Mesh(mesh.triangles[keep])
+
+
+def test_holes_are_closed_and_the_parts_stay_closed_on_disk(tmp_path):
+    """A box without one face (a planar hole) and a torus without a patch of its outer surface (a
+    curved one, 4 x 3 facets), written with their holes and read back: repair with fill_holes closes
+    both, and the written mesh is watertight, its windings consistent, its volume the box's exactly
+    and the torus's within the patch's share."""
+    block = box((0, 0, 0), (20, 10, 5))
+    ring = torus(30, 10, 48, 24)
+    centroid = ring.triangles.mean(axis=1)
+    angle, radius = np.arctan2(centroid[:, 1], centroid[:, 0]), np.hypot(centroid[:, 0], centroid[:, 1])
+    patch = (np.abs(angle) < 2 * np.pi / 48 * 2) & (radius > 38) & (np.abs(centroid[:, 2]) < 4)
+    assert 8 <= patch.sum() <= 40
+    for whole, holed, holes in ((block, _holed(block, slice(2, None)), 1),
+                                (ring, _holed(ring, ~patch), 1),
+                                (concat(block, ring), concat(_holed(block, slice(2, None)), _holed(ring, ~patch)), 2)):
+        path = tmp_path / "holed.stl"
+        save(holed, path)
+        before = check(load(path))
+        assert not before.watertight and before.n_open_edges > 0 and before.n_near_vertices == 0
+        fixed = repair(load(path), fill_holes=True)
+        assert fixed.report.n_holes_filled == holes
+        assert any(f"filled {holes} holes" in c for c in fixed.report.changes())
+        save(fixed.mesh, tmp_path / "filled.stl")
+        after = check(load(tmp_path / "filled.stl"))
+        assert after.watertight and after.winding_consistent and after.n_shells == check(whole).n_shells
+        assert after.volume == pytest.approx(check(whole).volume, rel=2e-3)
+    assert repair(load(tmp_path / "holed.stl")).report.n_holes_filled == 0  # asked for only
+
+
+def test_slice_names_the_holes_and_fills_them_when_asked(tmp_path):
+    """An open block: `slice` refuses it in one line naming --fill-holes (exit 2, no G-code), and
+    with --fill-holes prints it, reporting the hole."""
+    import subprocess
+    import sys
+    part = tmp_path / "open.stl"
+    save(_holed(box((0, 0, 0), (12, 8, 1)), slice(2, None)), part)
+    out = tmp_path / "part.gcode"
+    base = [sys.executable, "-m", "slicelab", "slice", str(part), "-o", str(out), "--workers", "1"]
+    r = subprocess.run(base, capture_output=True, text=True)
+    assert r.returncode == 2 and "--fill-holes" in r.stderr and len(r.stderr.strip().splitlines()) == 1
+    assert not out.exists()
+    r = subprocess.run(base + ["--fill-holes"], capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "filled 1 holes (the largest 14.4 mm across)" in r.stdout + r.stderr
+    assert out.read_text().count(";LAYER_CHANGE") == 5

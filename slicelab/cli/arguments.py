@@ -132,6 +132,10 @@ def repair_flag(p) -> None:
     p.add_argument("--repair", action="store_true", default=GIVEN,
                    help="first snap CAD float noise (near-coincident vertices), drop collapsed and duplicate "
                         "facets and make windings agree (slicelab.repair); the changes are reported")
+    p.add_argument("--fill-holes", action="store_true", default=GIVEN,
+                   help="repair, and close each hole (a loop of open edges, as a scan leaves where it saw "
+                        "nothing) with a fan of facets, as PrusaSlicer does unasked; the holes and the size "
+                        "of the largest are reported")
 
 
 def negative_values(argv: list[str]) -> list[str]:

@@ -9,7 +9,8 @@ snaps vertices that lie within a tolerance far below any modelled feature
 (by default 8 single-precision units in the last place of the largest
 coordinate: 0.06 micrometre on a part 100 mm from the origin; at least 1e-9 of
 the bounding-box diagonal), which closes such seams without moving any real geometry. It
-does not fill holes, remove self-intersections or guess at anything larger.
+does not remove self-intersections or guess at anything larger; it fills holes only when
+asked (``fill_holes=True``, `slicelab.mesh.holes`).
 
 See Also
 --------
@@ -106,6 +107,7 @@ _SENTENCES = (
     ("n_flipped", "reversed {n} facets to agree with their neighbours"),
     ("n_shells_turned_outward", "turned {n} inside-out shells outward"),
     ("n_non_orientable_shells", "{n} shells cannot be oriented (left as they are)"),
+    ("n_holes_filled", "filled {n} holes (the largest {largest_hole:.3g} mm across)"),
 )
 
 
@@ -130,6 +132,10 @@ class RepairReport:
         Shells whose every facet was reversed so the shell encloses positive volume.
     n_non_orientable_shells : int
         Shells whose windings cannot all agree (a Moebius-like surface); left as they are.
+    n_holes_filled : int
+        Loops of open edges closed by a fan of facets (``fill_holes=True``).
+    largest_hole : float
+        The largest filled hole's bounding-box diagonal (mm).
     """
 
     tolerance: float
@@ -139,16 +145,18 @@ class RepairReport:
     n_flipped: int = 0
     n_shells_turned_outward: int = 0
     n_non_orientable_shells: int = 0
+    n_holes_filled: int = 0
+    largest_hole: float = 0.0
 
     @property
     def changed(self) -> bool:
         """True when anything was changed."""
         return any((self.n_snapped_vertices, self.n_collapsed_removed, self.n_duplicates_removed,
-                    self.n_flipped, self.n_shells_turned_outward))
+                    self.n_flipped, self.n_shells_turned_outward, self.n_holes_filled))
 
     def changes(self) -> list[str]:
         """One sentence for each kind of change made."""
-        return [sentence.format(n=getattr(self, name), tolerance=self.tolerance)
+        return [sentence.format(n=getattr(self, name), tolerance=self.tolerance, largest_hole=self.largest_hole)
                 for name, sentence in _SENTENCES if getattr(self, name)]
 
     def to_dict(self) -> dict:
@@ -238,8 +246,10 @@ def _orient(faces: np.ndarray) -> tuple[np.ndarray, int]:
     return flip, int(np.count_nonzero(bad_shell))
 
 
-def repair(mesh: Mesh, *, tolerance: float | None = None, orient: bool = True) -> Repaired:
-    """Snap near-coincident vertices, drop collapsed and duplicate facets, make windings agree.
+def repair(mesh: Mesh, *, tolerance: float | None = None, orient: bool = True,
+           fill_holes: bool = False) -> Repaired:
+    """Snap near-coincident vertices, drop collapsed and duplicate facets, make windings agree;
+    optionally close holes.
 
     Parameters
     ----------
@@ -251,6 +261,9 @@ def repair(mesh: Mesh, *, tolerance: float | None = None, orient: bool = True) -
     orient : bool, default True
         Make windings agree and turn shells outward; False only removes
         collapsed and duplicate facets (after snapping).
+    fill_holes : bool, default False
+        Close each loop of open edges left after snapping with a fan of facets
+        (`slicelab.mesh.holes.fill_holes`), before shells are turned outward.
 
     Returns
     -------
@@ -263,7 +276,7 @@ def repair(mesh: Mesh, *, tolerance: float | None = None, orient: bool = True) -
     shell, and each closed shell is then turned so that its normals point away
     from the material: out of a solid, into a cavity (a shell inside an odd
     number of others). Open or non-manifold shells keep the winding of their
-    lowest facet's side. Holes are not filled.
+    lowest facet's side. Holes are filled only when asked.
 
     Examples
     --------
@@ -290,13 +303,19 @@ def repair(mesh: Mesh, *, tolerance: float | None = None, orient: bool = True) -
     keep = _duplicates(faces)
     n_dup = int(np.count_nonzero(~keep))
     faces = faces[keep]
-    n_flipped = n_outward = n_bad = 0
+    n_flipped = n_outward = n_bad = n_holes = 0
+    largest = 0.0
     if len(faces) and orient:
         flip, n_bad = _orient(faces)
         n_flipped = int(np.count_nonzero(flip))
         faces = np.where(flip[:, None], faces[:, ::-1], faces)
+    if len(faces) and fill_holes:  # (windings agree now: each hole's edges run one way round)
+        from .holes import fill_holes as close
+        vertices, faces, n_holes, largest = close(vertices, faces)
+    if len(faces) and orient:
         faces, n_outward = _turn_outward(vertices, faces)
-    report = RepairReport(tol, n_snapped, int(np.count_nonzero(collapsed)), n_dup, n_flipped, n_outward, n_bad)
+    report = RepairReport(tol, n_snapped, int(np.count_nonzero(collapsed)), n_dup, n_flipped, n_outward, n_bad,
+                          n_holes, largest)
     if not report.changed:
         return Repaired(mesh, report)
     return Repaired(Mesh(vertices[faces]), report)

@@ -29,10 +29,12 @@ __all__ = ["CUT", "PARTITION", "SLICE", "slice_settings"]
 
 
 # ------------------------------------------------------------------------- cut
-def _cut_parameters(plane=None, preview: bool = True, repair: bool = False) -> dict:
+def _cut_parameters(plane=None, preview: bool = True, repair: bool = False, fill_holes: bool = False) -> dict:
     """plane: ``(origin, normal)`` or None (horizontal, at mid-height); preview: draw exploded.png;
-    repair: snap CAD float noise, drop collapsed facets and fix windings first (`slicelab.repair`)."""
-    return {"plane": plane_value(plane), "preview": bool(preview), "repair": bool(repair)}
+    repair: snap CAD float noise, drop collapsed facets and fix windings first (`slicelab.repair`);
+    fill_holes: repair, and close the holes too (``fill_holes=True``)."""
+    return {"plane": plane_value(plane), "preview": bool(preview), "repair": bool(repair),
+            "fill_holes": bool(fill_holes)}
 
 
 def _cut_compute(inp, p):
@@ -68,7 +70,8 @@ def _open_input(inp) -> list:
     r = inp.check
     if r.watertight and r.winding_consistent:
         return []
-    hint = " (near-coincident vertices: try --repair)" if r.n_near_vertices else ""
+    hint = " (near-coincident vertices: try --repair)" if r.n_near_vertices else \
+        " (holes: --fill-holes closes them)" if r.n_open_edges and not r.n_nonmanifold_edges else ""
     return [reason("open_input", f"the input is not watertight: {r.n_open_edges} open, {r.n_nonmanifold_edges} "
                                  f"non-manifold, {r.n_misoriented_edges} misoriented edges{hint}")]
 
@@ -107,17 +110,19 @@ CUT = Job(
 # ------------------------------------------------------------------- partition
 def _partition_parameters(volume=None, joint: str = "flat", clearance: float = 0.0, step=(10.0, 20.0),
                           flight: int = 1, rotate: bool = True, preview: bool = True, repair: bool = False,
-                          plates: bool = False, spacing: float = 5.0) -> dict:
+                          plates: bool = False, spacing: float = 5.0, fill_holes: bool = False) -> dict:
     """volume: the build volume (3 sizes, mm; required); joint: flat or stair; clearance: glue gap (mm);
     step: stair step height and depth (mm); flight: steps up before stepping down; rotate: turn
     pieces about z to fit; preview: draw exploded.png; repair: `slicelab.repair` the mesh first;
-    plates: also pack the pieces onto build plates (``plate_NN.stl``, ``plates.json``), `spacing` mm apart."""
+    fill_holes: repair, and close the holes too; plates: also pack the pieces onto build plates
+    (``plate_NN.stl``, ``plates.json``), `spacing` mm apart."""
     if volume is None:
         raise ParameterError("volume", "is required (three sizes in mm, such as 200x200x200)")
     return {"volume": vector("volume", volume, positive=True), "joint": choice("joint", joint, ("flat", "stair")),
             "clearance": number("clearance", clearance, low=0), "step": vector("step", step, size=2, positive=True),
             "flight": whole("flight", flight, low=1), "rotate": bool(rotate), "preview": bool(preview),
-            "repair": bool(repair), "plates": bool(plates), "spacing": number("spacing", spacing, low=0)}
+            "repair": bool(repair), "plates": bool(plates), "spacing": number("spacing", spacing, low=0),
+            "fill_holes": bool(fill_holes)}
 
 
 def _partition_feasible(inp, p):
@@ -191,12 +196,12 @@ def _size(name: str, value) -> list:
 
 
 def _slice_parameters(printer=None, config=None, workers=None, preview: bool = False, repair: bool = False,
-                      **settings) -> dict:
+                      fill_holes: bool = False, **settings) -> dict:
     """`slicelab.toolpath.PrintSettings` fields in `settings` (left out: the printer profile's, then the
     settings file's, then PrintSettings' defaults; the first layer as thick as the others unless given;
     bed_size as ``"250x210"`` or two numbers); printer: a bundled profile's name; config: a TOML
     settings file; workers: processes (None: all cores); preview: layer SVGs and a PNG; repair:
-    `slicelab.repair` the mesh first."""
+    `slicelab.repair` the mesh first; fill_holes: repair, and close the holes too."""
     from ..toolpath import PrintSettings, setting_names
     from ..toolpath.printers import resolve_settings
     known = set(setting_names())
@@ -220,7 +225,7 @@ def _slice_parameters(printer=None, config=None, workers=None, preview: bool = F
         name, _, problem = str(exc).partition(" ")
         raise (ParameterError(name, problem) if name in known | {"printer"} else ValueError(str(exc))) from None
     return {**resolved, "workers": None if workers is None else whole("workers", workers, low=1),
-            "preview": bool(preview), "repair": bool(repair)}
+            "preview": bool(preview), "repair": bool(repair), "fill_holes": bool(fill_holes)}
 
 
 def slice_settings(params: dict):
@@ -241,7 +246,7 @@ def _slice_feasible(inp, p):
     # An open or inside-out mesh has no inside: its layers would print fragments (pins for a plate).
     why = _open_input(inp)
     if why:
-        hint = "" if "--repair" in why[0]["message"] else " (slicelab repair can close CAD noise: --repair)"
+        hint = "" if "--" in why[0]["message"] else " (slicelab repair can close CAD noise: --repair)"
         raise ValueError(f"{inp.path}: {why[0]['message']}; its layers would not be closed regions{hint}")
     s = _settings(p)
     check_print(inp.mesh, layer_height=min(s.layer_height, s.first_layer_height), pixel_size=s.pixel_size,

@@ -402,10 +402,10 @@ def run_job(name: str, source, params: dict | None = None, folder=None, *, paths
         from ..mesh import Mesh, unit_scale
         mesh = Mesh(mesh.triangles * unit_scale(**reading), mesh.file_normals)
     repaired = None
-    if params.get("repair"):
+    if params.get("repair") or params.get("fill_holes"):
         from ..mesh import repair
         t0 = time.perf_counter()
-        fixed = repair(mesh)
+        fixed = repair(mesh, fill_holes=bool(params.get("fill_holes")))
         mesh, repaired = fixed.mesh, fixed.report
         check, timings["repair"] = None, time.perf_counter() - t0
     inp = JobInput(Path(source), mesh, check)
