@@ -1,5 +1,6 @@
 """The command line: help, version, outputs, and one-line errors with exit status 2."""
 import json
+import re
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
@@ -86,6 +87,30 @@ def test_help_says_a_bare_number_up_to_1_is_a_fraction(capsys):
         main(["slice", "--help"])
     text = " ".join(capsys.readouterr().out.split())
     assert "--infill-density" in text and "a bare number up to 1 a fraction" in text
+
+
+def test_every_print_setting_flag_says_what_it_sets_and_its_default():
+    """Each slice flag that sets a print setting has a help line ending in the setting's default,
+    read from PrintSettings (so help and behaviour cannot drift apart)."""
+    from slicelab.toolpath import PrintSettings, setting_names
+    d = PrintSettings()
+    sub = next(a for a in build_parser()._actions if a.dest == "command").choices["slice"]
+    checked = 0
+    for action in sub._actions:
+        name = action.dest
+        if name not in setting_names() or not action.option_strings or name in ("infill_density",):
+            continue
+        value = getattr(d, name)
+        if isinstance(value, bool) or value is None:
+            continue
+        shown = "x".join(f"{v:g}" for v in value) if isinstance(value, tuple) else \
+            (value if isinstance(value, str) else f"{value:g}")
+        assert action.help and "default" in action.help, action.option_strings
+        said = re.search(r"\(default ([^ )]+)", action.help % vars(action))  # as argparse shows it
+        if said:  # (others say it in words: "default: the layer height", "off (default; ...)")
+            assert said.group(1) == shown, (action.option_strings, action.help)
+            checked += 1
+    assert checked >= 20
 
 
 def test_a_bad_job_parameter_is_named_by_its_flag(data_dir, tmp_path):

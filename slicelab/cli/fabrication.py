@@ -138,6 +138,22 @@ def _run_arrange(args) -> int:
     return 0
 
 
+class _Default:
+    """A print setting's default, said in its flag's help (``%(setting_default)s``): read from
+    `slicelab.toolpath.PrintSettings` (the prusa-mk3 profile's values) only when help is shown,
+    so that building the parser, as every command does, imports no settings."""
+
+    def __init__(self, name: str):
+        self.name = name
+
+    def __str__(self) -> str:
+        from ..toolpath.settings import PrintSettings
+        value = getattr(PrintSettings(), self.name)
+        if isinstance(value, tuple):
+            return "x".join(f"{v:g}" for v in value)
+        return value if isinstance(value, str) else f"{value:g}"
+
+
 def _add_slice(sub) -> None:
     p = command(sub, "slice", DOCS, file=False)
     p.add_argument("files", type=Path, nargs="+", metavar="FILE",
@@ -151,20 +167,38 @@ def _add_slice(sub) -> None:
     p.add_argument("--infill-density", type=density, default=GIVEN, metavar="D",
                    help="sparse infill density: 20 or 20%% is a percentage, a bare number up to 1 a "
                         "fraction (0.2); default 20%%")
-    p.add_argument("--infill-pattern", choices=("rectilinear", "concentric", "gyroid"), default=GIVEN)
-    for flag, kind, meta in (("--line-width", positive, "W"), ("--infill-angle", float, "DEG"),
-                             ("--top-layers", int, "N"), ("--bottom-layers", int, "N"),
-                             ("--pixel-size", positive, "MM"), ("--gcode-resolution", float, "MM"),
-                             ("--nozzle-temperature", float, "C"), ("--bed-temperature", float, "C"),
-                             ("--fan-speed", float, "PCT"), ("--fan-off-layers", int, "N"), ("--skirt-loops", int, "N"),
-                             ("--skirt-distance", float, "MM"), ("--brim-width", float, "MM"),
-                             ("--bed-size", str, "XxY"), ("--max-height", float, "MM"),
-                             ("--acceleration", float, "MM/S2"), ("--jerk", float, "MM/S"),
-                             ("--overhang-threshold", float, "DEG"), ("--bridge-speed", positive, "MM/S"),
-                             ("--bridge-flow-ratio", positive, "R"), ("--min-layer-time", float, "S"),
-                             ("--fan-below-layer-time", float, "S"), ("--min-print-speed", positive, "MM/S")):
-        p.add_argument(flag, type=kind, default=GIVEN, metavar=meta)
-    p.add_argument("--nozzle-diameter", type=positive, default=GIVEN, metavar="MM")
+    pattern = p.add_argument("--infill-pattern", choices=("rectilinear", "concentric", "gyroid"), default=GIVEN,
+                             help="sparse infill pattern (default %(setting_default)s)")
+    pattern.setting_default = _Default("infill_pattern")
+    for flag, kind, meta, what in (
+            ("--line-width", positive, "W", "extrusion width of every line, mm"),
+            ("--infill-angle", float, "DEG", "direction of the infill lines, turned 90 degrees every layer"),
+            ("--top-layers", int, "N", "solid layers under every top surface"),
+            ("--bottom-layers", int, "N", "solid layers over every bottom surface"),
+            ("--pixel-size", positive, "MM", "pixel grid of the layers (skins, gaps, overhangs; the perimeters "
+                                            "lie on the exact offsets whatever its size)"),
+            ("--gcode-resolution", float, "MM", "every path simplified to this tolerance"),
+            ("--nozzle-temperature", float, "C", "degrees Celsius"),
+            ("--bed-temperature", float, "C", "degrees Celsius"),
+            ("--fan-speed", float, "PCT", "part-cooling fan, percent, after the first layers"),
+            ("--fan-off-layers", int, "N", "first layers printed with the fan off"),
+            ("--skirt-loops", int, "N", "loops around the first layer; 0: no skirt"),
+            ("--skirt-distance", float, "MM", "gap between the skirt and the part"),
+            ("--brim-width", float, "MM", "brim around the first layer; 0: none"),
+            ("--bed-size", str, "XxY", "the bed, mm; a part that does not fit is refused"),
+            ("--max-height", float, "MM", "the printer's build height; a taller part is refused"),
+            ("--acceleration", float, "MM/S2", "for the print-time estimate"),
+            ("--jerk", float, "MM/S", "for the print-time estimate"),
+            ("--overhang-threshold", float, "DEG", "steepest wall, from the vertical, that holds itself"),
+            ("--bridge-speed", positive, "MM/S", "speed of bridge lines"),
+            ("--bridge-flow-ratio", positive, "R", "flow of bridge lines, against other lines'"),
+            ("--min-layer-time", float, "S", "a quicker layer is slowed to last this long"),
+            ("--fan-below-layer-time", float, "S", "a layer quicker than this gets more fan"),
+            ("--min-print-speed", positive, "MM/S", "the slowest a layer is slowed to"),
+            ("--nozzle-diameter", positive, "MM", "the nozzle's bore")):
+        action = p.add_argument(flag, type=kind, default=GIVEN, metavar=meta,
+                                help=f"{what} (default %(setting_default)s)")
+        action.setting_default = _Default(flag[2:].replace("-", "_"))
     p.add_argument("--center", dest="bed_center", type=point, default=GIVEN, metavar="X,Y",
                    help="where the part's footprint is centred on the bed (default: the bed's middle)")
     p.add_argument("--support", choices=("off", "auto", "bed"), default=GIVEN,
