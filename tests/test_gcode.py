@@ -263,6 +263,27 @@ def test_skirt_and_brim_around_the_first_layer(cube):
     assert pp.layers[1].skirt_segments == [] and "skirt" not in pp.layers[1].kinds()
 
 
+def test_a_skirt_goes_round_outer_loops_that_cross_themselves_and_each_other():
+    """Two figure-eight prisms overlapping (a self-intersecting scan's first layer): GEOS refuses to
+    unite their outer loops as given; the skirt still goes round both, its inner edge at the skirt
+    distance from the material."""
+    import shapely
+
+    from slicelab.samples import figure_eight_prism
+    from slicelab.toolpath.skirt import skirt_loops
+    one = figure_eight_prism()
+    two = slicelab.Mesh(np.concatenate([one.triangles, one.triangles + (4, 2, 0)]))
+    sec = slicelab.section(two, (0, 0, 5), (0, 0, 1))
+    with pytest.raises(shapely.errors.GEOSException):
+        shapely.union_all([shapely.Polygon(q.exterior) for q in sec.polygons])
+    skirt, brim = skirt_loops(sec, 0.4, loops=1, distance=3.0)
+    assert len(skirt) == 1 and brim == []
+    ring = shapely.LinearRing(skirt[0])
+    material = shapely.union_all(shapely.make_valid([shapely.Polygon(q.exterior) for q in sec.polygons]))
+    assert shapely.Polygon(ring).contains(material)
+    assert shapely.distance(ring, material) == pytest.approx(3.0 + 0.2, abs=0.02)
+
+
 def test_fan_and_temperatures_in_order(cube):
     mesh, s, pp, text, g, totals = cube
     cmds = [c for _, c in g["commands"]]

@@ -93,9 +93,13 @@ def skirt_loops(section, line_width: float = 0.4, *, loops: int = 1, distance: f
     """
     import shapely
     w = float(line_width)
-    polys = [shapely.Polygon(p.exterior) for p in section.polygons if len(p.exterior) >= 3]
-    if not polys or (loops <= 0 and brim_width <= 0):
+    polys = np.array([shapely.Polygon(p.exterior) for p in section.polygons if len(p.exterior) >= 3], object)
+    if not len(polys) or (loops <= 0 and brim_width <= 0):
         return [], []
+    # A self-intersecting mesh has outer loops that cross themselves: GEOS unites only valid shapes.
+    bad = ~shapely.is_valid(polys)
+    if bad.any():
+        polys[bad] = shapely.make_valid(polys[bad])
     outline = shapely.union_all(polys)
     n_brim = _brim_count(w, brim_width)
     offsets = [(0.5 + i) * w for i in range(n_brim)][::-1]
