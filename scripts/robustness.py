@@ -8,6 +8,12 @@ bounding box; both parts are written as STL with `write_mesh` and read back,
 and a part counts as closed when the file checks watertight.
 
     python scripts/robustness.py [--planes 5] [--root ../shared/meshes] [--seed 0]
+    python scripts/robustness.py --slice [--root ../shared/meshes/defects]
+
+``--slice`` instead runs `slicelab slice FILE --fill-holes` (the command line, one process, a
+bed large enough for every file) on every mesh and counts what a user would meet: printed (exit 0,
+G-code with layers on disk), refused (exit 2 with a one-line error) and failed (anything else,
+with its last line). Cost: each file's slice, linear in its layers.
 
 Prints one line per file, the totals, and one line per part not closed on
 disk with its cause: not closed in memory already (the cut) or lost in the
@@ -44,12 +50,49 @@ def _cause(part, on_disk, out) -> str:
     return "watertight in memory, not in float32 (the writing): " + edges
 
 
+def _slice_all(files: list, root: Path) -> int:
+    """`slicelab slice --fill-holes` on every file: printed, refused in one line, or failed."""
+    import subprocess
+    counts = {"printed": 0, "refused": 0, "failed": 0}
+    failures, refusals = [], {}
+    t0 = time.perf_counter()
+    with tempfile.TemporaryDirectory() as tmp:
+        for path in files:  # over files
+            rel = path.relative_to(root)
+            out = Path(tmp) / "part.gcode"
+            out.unlink(missing_ok=True)
+            r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(path), "-o", str(out), "--fill-holes",
+                                "--workers", "1", "--bed-size", "2000x2000", "--max-height", "2000"],
+                               capture_output=True, text=True, cwd=ROOT)
+            lines = r.stderr.strip().splitlines()
+            if r.returncode == 0 and out.exists() and ";LAYER_CHANGE" in out.read_text():
+                kind, say = "printed", next((x for x in r.stdout.splitlines() if x.startswith("repair:")), "")
+            elif r.returncode == 2 and len([x for x in lines if "error:" in x]) == 1 and not out.exists():
+                kind, say = "refused", lines[-1].split(": ", 3)[-1]
+                cause = say.split(":")[0].split(" (")[0]
+                refusals[cause] = refusals.get(cause, 0) + 1
+            else:
+                kind, say = "failed", f"exit {r.returncode}: " + (lines[-1] if lines else "")
+                failures.append(f"{rel}: {say}")
+            counts[kind] += 1
+            print(f"{rel}: {kind}" + (f": {say}" if say else ""))
+    print()
+    print(f"robustness --slice: {len(files)} files in {time.perf_counter() - t0:.1f} s; {counts['printed']} printed, "
+          f"{counts['refused']} refused in one line, {counts['failed']} failed")
+    for cause, n in sorted(refusals.items()):
+        print(f"robustness --slice: refused {n} x {cause}")
+    for line in failures:
+        print("robustness --slice: failed: " + line)
+    return 0
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--root", type=Path, default=ROOT.parent / "shared" / "meshes")
     ap.add_argument("--planes", type=int, default=5)
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--max-facets", type=int, default=2_000_000, help="skip larger files")
+    ap.add_argument("--slice", action="store_true", help="slice every file (--fill-holes) instead of cutting")
     ap.add_argument("--keep", type=Path, default=None,
                     help="save the float64 triangles of each part not closed on disk here (.npy)")
     args = ap.parse_args(argv)
@@ -58,6 +101,8 @@ def main(argv=None) -> int:
         return 0
     rng = np.random.default_rng(args.seed)
     files = sorted(p for p in args.root.rglob("*") if p.is_file() and p.suffix.lower() == ".stl")
+    if args.slice:
+        return _slice_all(files, args.root)
     totals = dict(files=0, refused=0, repaired=0, open_input=0, cuts=0, parts=0, closed=0, noted=0)
     reasons: dict[str, int] = {}
     failures: list[str] = []

@@ -146,3 +146,45 @@ def test_sample_files_match_their_generator(tmp_path, data_dir):
         assert (tmp_path / p.name).read_bytes() == p.read_bytes(), p.name
         assert p.stat().st_size < 1_000_000
         assert slicelab.check(slicelab.load(p)).watertight
+
+
+def _touching_blocks() -> Mesh:
+    """Two 10 x 10 x 2 mm blocks meeting along one vertical edge (x = y = 10): four facets use it."""
+    return slicelab.samples.concat(box((0, 0, 0), (10, 10, 2)), box((10, 10, 0), (20, 20, 2)))
+
+
+def test_shells_touching_along_an_edge_are_closed_by_winding_and_a_fin_is_not():
+    r = check(_touching_blocks())
+    assert not r.watertight and r.n_nonmanifold_edges > 0
+    assert r.n_unbalanced_edges == 0 and r.closed_by_winding
+    assert r.to_dict()["closed_by_winding"] is True
+    assert "closed by winding number" in str(r)
+    # A fin: one more facet hanging off an edge of the block (walked one way only).
+    b = box((0, 0, 0), (10, 10, 2))
+    fin = np.array([[[0, 0, 0], [10, 0, 0], [5, -5, 1]]], float)
+    for bad in (Mesh(np.concatenate([b.triangles, fin])), Mesh(b.triangles[1:])):
+        r = check(bad)
+        assert r.n_unbalanced_edges > 0 and not r.closed_by_winding
+    for good in (box(), torus(30, 10, 24, 12), nested_shells()):
+        assert check(good).n_unbalanced_edges == 0
+
+
+def test_slice_prints_shells_touching_along_an_edge_and_says_so(tmp_path):
+    """Sliced by winding number, with a non_manifold warning: as much material as the two blocks
+    planned one by one."""
+    import subprocess
+    import sys
+
+    from slicelab.toolpath import PrintSettings, plan
+    part = tmp_path / "touching.stl"
+    slicelab.save(_touching_blocks(), part)
+    out = tmp_path / "t.gcode"
+    r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(part), "-o", str(out), "--workers", "1"],
+                       capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert "non-manifold edges" in r.stderr and "winding number" in r.stderr
+    assert out.read_text().count(";LAYER_CHANGE") == 10
+    s = PrintSettings(skirt_loops=0, pixel_size=0.1)
+    both = plan(slicelab.load(part), s, workers=1).extruded_volume
+    one = plan(box((0, 0, 0), (10, 10, 2)), s, workers=1).extruded_volume
+    assert both == pytest.approx(2 * one, rel=0.02)

@@ -54,6 +54,12 @@ class MeshReport:
         another such vertex: CAD float noise (a coordinate of 3.4e-17 where 0 is
         meant, or a copy of a vertex a unit in the last place away) rather than a
         real hole. `slicelab.repair` snaps them.
+    n_unbalanced_edges : int
+        Edges that facets walk more often one way than the other (open and
+        misoriented edges among them). With none, the surface bounds a solid in
+        the sense of the winding number even where it is not manifold (two shells
+        that touch along an edge): every plane cuts it into closed loops, and
+        `slicelab slice` reads its layers by their winding numbers.
     """
 
     n_facets: int
@@ -70,16 +76,23 @@ class MeshReport:
     watertight: bool
     bounds: tuple
     n_near_vertices: int = 0
+    n_unbalanced_edges: int = 0
 
     @property
     def winding_consistent(self) -> bool:
         """True when every two-facet edge is walked once each way."""
         return self.n_misoriented_edges == 0
 
+    @property
+    def closed_by_winding(self) -> bool:
+        """True when every edge is walked as often one way as the other (`n_unbalanced_edges`)."""
+        return self.n_facets > 0 and self.n_unbalanced_edges == 0
+
     def to_dict(self) -> dict:
         """Plain-Python dictionary, ready for JSON."""
         d = asdict(self)
         d["winding_consistent"] = self.winding_consistent
+        d["closed_by_winding"] = self.closed_by_winding
         return d
 
     def __str__(self) -> str:
@@ -97,7 +110,9 @@ class MeshReport:
             f"open edges        {self.n_open_edges}"
             + (f" ({self.n_near_vertices} near-coincident vertices: slicelab.repair closes them)"
                if self.n_near_vertices else ""),
-            f"non-manifold      {self.n_nonmanifold_edges}",
+            f"non-manifold      {self.n_nonmanifold_edges}"
+            + (" (each walked as often both ways: closed by winding number, slice reads it)"
+               if self.n_nonmanifold_edges and self.closed_by_winding else ""),
             f"misoriented edges {self.n_misoriented_edges}",
             f"watertight        {'yes' if self.watertight else 'no'}",
         ]
@@ -140,8 +155,9 @@ def _longest2_bound(t: np.ndarray) -> np.ndarray:
     return span
 
 
-def _topology(mesh: Mesh, tolerance: float) -> tuple[int, int, int, int, int, int]:
-    """Welded vertices, open / non-manifold / misoriented edges, shells and near-coincident vertices."""
+def _topology(mesh: Mesh, tolerance: float) -> tuple[int, int, int, int, int, int, int]:
+    """Welded vertices, open / non-manifold / misoriented edges, shells, near-coincident vertices
+    and unbalanced edges."""
     t = mesh.triangles
     faces, corner_of_vertex = mesh.welded  # the weld, without gathering the vertices (kept for the slicer)
     et = edge_table(faces)
@@ -154,7 +170,10 @@ def _topology(mesh: Mesh, tolerance: float) -> tuple[int, int, int, int, int, in
         ends = np.unique(np.concatenate([faces.reshape(-1)[fe], faces[fe // 3, (fe % 3 + 1) % 3]]))
         pairs = near_vertex_pairs(t.reshape(-1, 3)[corner_of_vertex[ends]], tolerance)
         n_near = len(np.unique(pairs))
-    return len(corner_of_vertex), e.n_open, e.n_nonmanifold, e.n_misoriented, int(n_shells), n_near
+    # An edge is balanced when as many of its facets walk it forward as backward.
+    forward = np.bincount(et["inverse"], weights=et["forward"], minlength=len(et["counts"]))
+    n_unbalanced = int(np.count_nonzero(2 * forward != et["counts"]))
+    return len(corner_of_vertex), e.n_open, e.n_nonmanifold, e.n_misoriented, int(n_shells), n_near, n_unbalanced
 
 
 def check(mesh: Mesh) -> MeshReport:
@@ -200,7 +219,7 @@ def check(mesh: Mesh) -> MeshReport:
         n_zero_normals = int(np.count_nonzero(stored == 0))
         n_flipped = int(np.count_nonzero(np.einsum("ij,ij->i", mesh.file_normals, mesh.normals) < 0))
         volume = signed_volume(t, cross)
-        n_vertices, n_open, n_nonmanifold, n_misoriented, n_shells, n_near = topo.result()
+        n_vertices, n_open, n_nonmanifold, n_misoriented, n_shells, n_near, n_unbalanced = topo.result()
 
     lo, hi = mesh.bounds
     return MeshReport(
@@ -218,4 +237,5 @@ def check(mesh: Mesh) -> MeshReport:
         watertight=bool(n_open == 0 and n_nonmanifold == 0),
         bounds=(tuple(map(float, lo)), tuple(map(float, hi))),
         n_near_vertices=n_near,
+        n_unbalanced_edges=n_unbalanced,
     )

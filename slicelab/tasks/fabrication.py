@@ -244,10 +244,18 @@ def _slice_feasible(inp, p):
     from ..toolpath.bed import check_bed
     from .limits import check_print
     # An open or inside-out mesh has no inside: its layers would print fragments (pins for a plate).
+    # A surface whose every edge is walked as often both ways bounds a solid by winding number,
+    # manifold or not (shells touching along an edge): its layers are closed loops.
     why = _open_input(inp)
-    if why:
-        hint = "" if "--" in why[0]["message"] else " (slicelab repair can close CAD noise: --repair)"
-        raise ValueError(f"{inp.path}: {why[0]['message']}; its layers would not be closed regions{hint}")
+    if why and not inp.check.closed_by_winding:
+        r = inp.check
+        if p.get("fill_holes"):  # (what is left is no hole a fan closes, nor float noise)
+            message = (f"the input is not watertight even after --fill-holes: {r.n_open_edges} open, "
+                       f"{r.n_nonmanifold_edges} non-manifold, {r.n_misoriented_edges} misoriented edges")
+        else:
+            hint = "" if "--" in why[0]["message"] else " (slicelab repair can close CAD noise: --repair)"
+            message = why[0]["message"] + hint
+        raise ValueError(f"{inp.path}: {message}; its layers would not be closed regions")
     s = _settings(p)
     check_print(inp.mesh, layer_height=min(s.layer_height, s.first_layer_height), pixel_size=s.pixel_size,
                 line_width=s.line_width, n_perimeters=s.n_perimeters)
@@ -280,8 +288,14 @@ def _slice_write(pp, inp, p, out):
 
 def _slice_report(pp, inp, p):
     bridges = int(pp.overhangs[:, 2].sum()) if len(pp.overhangs) else 0
+    warnings = pp.warnings()
+    r = inp.check
+    if r.n_nonmanifold_edges:  # (sliced all the same: it is closed by winding number, `_slice_feasible`)
+        warnings.append(reason("non_manifold", f"{r.n_nonmanifold_edges} non-manifold edges (shells that touch "
+                                               f"along an edge, or walls inside): each is walked as often both "
+                                               f"ways, so the layers were read by winding number"))
     return {"layers": len(pp.layers), "print_length": pp.print_length, "filament_length": pp.filament_length,
-            "extruded_volume": pp.extruded_volume, "bridges": bridges}, pp.warnings()
+            "extruded_volume": pp.extruded_volume, "bridges": bridges}, warnings
 
 
 SLICE = Job(
