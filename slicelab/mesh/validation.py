@@ -54,6 +54,10 @@ class MeshReport:
         another such vertex: CAD float noise (a coordinate of 3.4e-17 where 0 is
         meant, or a copy of a vertex a unit in the last place away) rather than a
         real hole. `slicelab.repair` snaps them.
+    n_holes : int
+        Loops that the open edges close into, each walked one way round by its
+        facets: holes that ``slicelab.repair(mesh, fill_holes=True)`` (``--fill-holes``)
+        closes.
     n_unbalanced_edges : int
         Edges that facets walk more often one way than the other (open and
         misoriented edges among them). With none, the surface bounds a solid in
@@ -77,6 +81,7 @@ class MeshReport:
     bounds: tuple
     n_near_vertices: int = 0
     n_unbalanced_edges: int = 0
+    n_holes: int = 0
 
     @property
     def winding_consistent(self) -> bool:
@@ -109,7 +114,8 @@ class MeshReport:
             f"zero normals      {self.n_zero_normals}",
             f"open edges        {self.n_open_edges}"
             + (f" ({self.n_near_vertices} near-coincident vertices: slicelab.repair closes them)"
-               if self.n_near_vertices else ""),
+               if self.n_near_vertices else f" ({self.n_holes} holes: --fill-holes closes them)"
+               if self.n_holes else ""),
             f"non-manifold      {self.n_nonmanifold_edges}"
             + (" (each walked as often both ways: closed by winding number, slice reads it)"
                if self.n_nonmanifold_edges and self.closed_by_winding else ""),
@@ -155,16 +161,18 @@ def _longest2_bound(t: np.ndarray) -> np.ndarray:
     return span
 
 
-def _topology(mesh: Mesh, tolerance: float) -> tuple[int, int, int, int, int, int, int]:
-    """Welded vertices, open / non-manifold / misoriented edges, shells, near-coincident vertices
-    and unbalanced edges."""
+def _topology(mesh: Mesh, tolerance: float) -> tuple[int, int, int, int, int, int, int, int]:
+    """Welded vertices, open / non-manifold / misoriented edges, shells, near-coincident vertices,
+    unbalanced edges and holes."""
     t = mesh.triangles
     faces, corner_of_vertex = mesh.welded  # the weld, without gathering the vertices (kept for the slicer)
     et = edge_table(faces)
     e = edge_counts(faces, et)
     n_shells, _ = shells(faces, et)
-    n_near = 0
+    n_near = n_holes = 0
     if e.n_open:
+        from .holes import hole_loops
+        n_holes = len(hole_loops(faces, et)[2]) - 1
         # Only the ends of open edges can be seams that float noise opened: a few vertices to test.
         fe = et["first"][et["counts"] == 1]
         ends = np.unique(np.concatenate([faces.reshape(-1)[fe], faces[fe // 3, (fe % 3 + 1) % 3]]))
@@ -173,7 +181,8 @@ def _topology(mesh: Mesh, tolerance: float) -> tuple[int, int, int, int, int, in
     # An edge is balanced when as many of its facets walk it forward as backward.
     forward = np.bincount(et["inverse"], weights=et["forward"], minlength=len(et["counts"]))
     n_unbalanced = int(np.count_nonzero(2 * forward != et["counts"]))
-    return len(corner_of_vertex), e.n_open, e.n_nonmanifold, e.n_misoriented, int(n_shells), n_near, n_unbalanced
+    return (len(corner_of_vertex), e.n_open, e.n_nonmanifold, e.n_misoriented, int(n_shells), n_near, n_unbalanced,
+            n_holes)
 
 
 def check(mesh: Mesh) -> MeshReport:
@@ -219,7 +228,7 @@ def check(mesh: Mesh) -> MeshReport:
         n_zero_normals = int(np.count_nonzero(stored == 0))
         n_flipped = int(np.count_nonzero(np.einsum("ij,ij->i", mesh.file_normals, mesh.normals) < 0))
         volume = signed_volume(t, cross)
-        n_vertices, n_open, n_nonmanifold, n_misoriented, n_shells, n_near, n_unbalanced = topo.result()
+        n_vertices, n_open, n_nonmanifold, n_misoriented, n_shells, n_near, n_unbalanced, n_holes = topo.result()
 
     lo, hi = mesh.bounds
     return MeshReport(
@@ -238,4 +247,5 @@ def check(mesh: Mesh) -> MeshReport:
         bounds=(tuple(map(float, lo)), tuple(map(float, hi))),
         n_near_vertices=n_near,
         n_unbalanced_edges=n_unbalanced,
+        n_holes=n_holes,
     )

@@ -71,7 +71,7 @@ def _open_input(inp) -> list:
     if r.watertight and r.winding_consistent:
         return []
     hint = " (near-coincident vertices: try --repair)" if r.n_near_vertices else \
-        " (holes: --fill-holes closes them)" if r.n_open_edges and not r.n_nonmanifold_edges else ""
+        f" ({r.n_holes} holes: --fill-holes closes them)" if r.n_holes else ""
     return [reason("open_input", f"the input is not watertight: {r.n_open_edges} open, {r.n_nonmanifold_edges} "
                                  f"non-manifold, {r.n_misoriented_edges} misoriented edges{hint}")]
 
