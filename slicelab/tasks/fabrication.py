@@ -10,6 +10,7 @@ slicelab.tasks.jobs : the registry, `run_job`, and the jobs that analyse a file.
 """
 from __future__ import annotations
 
+
 import json
 
 from ..export.files import atomic_open
@@ -17,6 +18,7 @@ from .spec import (
     Job,
     ParameterError,
     choice,
+    drawn_meanwhile,
     number,
     reason,
     resolve_plane,
@@ -78,12 +80,21 @@ def _open_input(inp) -> list:
 
 def _cut_write(value, inp, p, out):
     parts = value[2]
-    results, reasons = _write_parts([("rear", None, parts.rear), ("front", None, parts.front)], out)
-    if p["preview"]:
-        from ..viz import save_exploded_png
-        save_exploded_png((parts.rear, parts.front), out.path("preview"), spread=0.35,
-                          title=f"{inp.path.name}: cut")
+    with drawn_meanwhile(_exploded(p), (parts.rear, parts.front), out.path("preview") if p["preview"] else None,
+                         spread=0.35, title=f"{inp.path.name}: cut"):
+        results, reasons = _write_parts([("rear", None, parts.rear), ("front", None, parts.front)], out)
     return {"results": results, "reasons": reasons}
+
+
+def _exploded(p):
+    """The exploded view's writer when the job draws a preview, else None."""
+    if not p["preview"]:
+        return None
+    from ..viz import save_exploded_png
+    return save_exploded_png
+
+
+
 
 
 def _cut_report(value, inp, p):
@@ -145,7 +156,9 @@ def _partition_write(parts, inp, p, out):
     width = max(3, len(str(len(pieces))))
     names = [f"part_{k:0{width}d}.stl" for k in range(len(pieces))]
     placed = [piece.transformed(info.placement.matrix) for piece, info in zip(pieces, parts.report.pieces)]
-    results, reasons = _write_parts([("pieces", n, m) for n, m in zip(names, placed)], out)
+    with drawn_meanwhile(_exploded(p), pieces, out.path("preview") if p["preview"] else None,
+                         title=f"{inp.path.name}: {len(pieces)} pieces, {p['joint']} joints"):
+        results, reasons = _write_parts([("pieces", n, m) for n, m in zip(names, placed)], out)
     report = parts.report.to_dict()
     for name, piece in zip(names, report["pieces"]):
         piece["file"] = name
@@ -153,10 +166,6 @@ def _partition_write(parts, inp, p, out):
         piece["watertight"] = results[name]["watertight"]  # what the file holds, not the memory
     with atomic_open(out.path("json"), "w", encoding="utf-8") as fh:
         json.dump({"file": str(inp.path), **report}, fh, indent=1)
-    if p["preview"]:
-        from ..viz import save_exploded_png
-        save_exploded_png(pieces, out.path("preview"),
-                          title=f"{inp.path.name}: {len(pieces)} pieces, {p['joint']} joints")
     extra = {}
     if p["plates"]:
         from .plates import write_plates

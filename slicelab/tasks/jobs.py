@@ -40,6 +40,7 @@ from .spec import (
     Outputs,
     ParameterError,
     choice,
+    drawn_meanwhile,
     number,
     plain,
     reason,
@@ -185,15 +186,16 @@ def _split_write(value, inp, p, out):
     from ..export import write_mesh
     sp = value[2]
     written = {}
-    for side in ("front", "rear"):
-        piece = getattr(sp, side)
-        if len(piece):  # an STL without facets could not be read back
-            w = write_mesh(piece, out.path(side), checked=False)  # open by design: no check
-            written[f"{side}_collapsed_in_float32"] = w.n_collapsed
-    sp.section.to_svg(out.path("svg"))
+    draw = None
     if p["preview"]:
-        from ..viz import save_split_preview
-        save_split_preview(sp, out.path("preview"))
+        from ..viz import save_split_preview as draw
+    with drawn_meanwhile(draw, sp, out.path("preview") if p["preview"] else None):
+        for side in ("front", "rear"):
+            piece = getattr(sp, side)
+            if len(piece):  # an STL without facets could not be read back
+                w = write_mesh(piece, out.path(side), checked=False)  # open by design: no check
+                written[f"{side}_collapsed_in_float32"] = w.n_collapsed
+        sp.section.to_svg(out.path("svg"))
     return {"results": written}
 
 

@@ -10,6 +10,7 @@ keeps. `slicelab.tasks.jobs` defines the jobs and runs them.
 """
 from __future__ import annotations
 
+import contextlib
 import inspect
 import math
 from collections.abc import Callable, Mapping
@@ -21,7 +22,7 @@ from typing import Any
 import numpy as np
 
 __all__ = ["ParameterError", "number", "whole", "choice", "vector", "plane", "resolve_plane", "reason", "plain",
-           "JobInput", "Outputs", "JobResult", "Job"]
+           "JobInput", "Outputs", "JobResult", "Job", "drawn_meanwhile"]
 
 
 class ParameterError(ValueError):
@@ -376,3 +377,31 @@ class Job:
                 raise ParameterError(key, f"is not a parameter of the {self.name} job "
                                           f"(it takes {', '.join(names) or 'none'})")
         return plain(self.parameters(**options))
+
+
+@contextlib.contextmanager
+def drawn_meanwhile(draw: Callable | None, *args, **kwargs):
+    """``draw(*args, **kwargs)`` run on a thread while the block runs (nothing if `draw` is None).
+
+    A job's picture (projecting and depth-testing a million facets) and the
+    writing of its parts (packing, writing and checking STL files) are both
+    numpy work on large arrays that lets go of the GIL: on two cores the
+    picture then costs little more than the writing alone. An error in the
+    drawing is raised when the block is done.
+
+    Examples
+    --------
+    >>> seen = []
+    >>> with drawn_meanwhile(seen.append, "picture"):
+    ...     seen.append("parts")
+    >>> sorted(seen)
+    ['parts', 'picture']
+    """
+    if draw is None:
+        yield
+        return
+    from concurrent.futures import ThreadPoolExecutor
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        done = pool.submit(draw, *args, **kwargs)
+        yield
+        done.result()
