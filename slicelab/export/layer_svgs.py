@@ -32,8 +32,10 @@ def _svg_layer(lp, page) -> SvgDrawing:
     """One layer's drawing: every path at its width, coloured by role, in print order."""
     svg = SvgDrawing(page, desc=f"slicelab layer z={lp.z:.3f}", digits=3)
     pieces = list(lp.pieces())
+    # (a row's width is one number, or one per segment: np.mean only for the latter)
     svg.paths([path for _, path, _ in pieces],
-              [(STYLES[kind].gcode_type, {"fill": "none", "stroke": STYLES[kind].colour, "stroke_width": float(np.mean(w)),
+              [(STYLES[kind].gcode_type, {"fill": "none", "stroke": STYLES[kind].colour,
+                                          "stroke_width": float(w) if np.ndim(w) == 0 else float(np.mean(w)),
                                           "stroke_linecap": "round", "stroke_linejoin": "round", "stroke_opacity": 0.85})
                for kind, _, w in pieces])
     return svg

@@ -101,18 +101,21 @@ class SvgDrawing:
     def _each_path_data(self, polylines, closed: bool = False) -> list[str]:
         """Each polyline's path data ("" for one without points)."""
         from .text_kernels import path_data
-        q = [self._xy(p) for p in polylines]
-        full = [i for i, x in enumerate(q) if len(x)]
-        out = [""] * len(q)
+        raw = [np.asarray(p, dtype=np.float64).reshape(-1, 2) for p in polylines]
+        full = [i for i, x in enumerate(raw) if len(x)]
+        out = [""] * len(raw)
         if not full:
             return out
-        # Every point in one compiled pass (the numbers Python's format gives); Python's own
-        # format where that pass cannot write a value.
-        sizes = np.array([len(q[i]) for i in full])
-        r = np.round(np.concatenate([q[i] for i in full]), self.digits) + 0.0  # + 0.0: no "-0"
-        parts = path_data(r, np.concatenate([[0], np.cumsum(sizes)]), self.digits, closed)
+        # Every point moved onto the page at once, then written in one compiled pass (the numbers
+        # Python's format gives); Python's own format where that pass cannot write a value.
+        sizes = np.array([len(raw[i]) for i in full])
+        bounds = np.concatenate([[0], np.cumsum(sizes)])
+        xy = self._xy(np.concatenate([raw[i] for i in full]))
+        r = np.round(xy, self.digits) + 0.0  # + 0.0: no "-0"
+        parts = path_data(r, bounds, self.digits, closed)
         if parts is None:
-            parts = ["M" + " L".join(self._fmt(q[i])) + (" Z" if closed else "") for i in full]
+            parts = ["M" + " L".join(self._fmt(xy[a:b])) + (" Z" if closed else "")
+                     for a, b in zip(bounds[:-1], bounds[1:])]
         for i, d in zip(full, parts):
             out[i] = d
         return out
