@@ -396,6 +396,14 @@ def drawn_meanwhile(draw: Callable | None, *args, **kwargs):
     ...     seen.append("parts")
     >>> sorted(seen)
     ['parts', 'picture']
+    >>> def broken():
+    ...     raise OSError("no room for the picture")
+    >>> with drawn_meanwhile(broken):
+    ...     seen.append("more parts")
+    Traceback (most recent call last):
+    OSError: no room for the picture
+    >>> seen[-1]
+    'more parts'
     """
     if draw is None:
         yield
