@@ -89,7 +89,10 @@ def sherd_row(form: str, noise: float, spacing: float, seed: int, span: float):
     rim = _pct(s.rim_diameter, truth["rim_diameter"])
     frac = 100 * (s.rim_fraction - truth["rim_fraction"]) if s.rim_fraction == s.rim_fraction else math.nan
     ok = s.kind == "rim" and axis <= 2.0 and abs(rim) <= 3 and abs(frac) <= 2
-    text = (f"axis {axis:6.2f}  rim {rim:+6.2f}  fraction {frac:+5.1f} pp  {s.kind:4s} "
+    # (a sherd taken for a body sherd has no rim to measure: said as "none", not nan)
+    rim_s = f"{rim:+6.2f}" if math.isfinite(rim) else "  none"
+    frac_s = f"{frac:+5.1f}" if math.isfinite(frac) else " none"
+    text = (f"axis {axis:6.2f}  rim {rim_s}  fraction {frac_s} pp  {s.kind:4s} "
             f"{'upside down' if axis > 90 else 'up from ' + s.up_from:14s} {'trusted' if s.axis_trusted else 'refused'}")
     return len(mesh), seconds, text, ok
 
