@@ -173,6 +173,22 @@ def test_random_planes_and_rotations(seed, which, t, axis_aligned):
     assert_cut(mesh, origin, normal)
 
 
+def test_a_corner_an_ulp_off_an_axis_plane_leaves_no_sliver():
+    """The nested shells turned at random, cut by x = const a fifth of the way across: the plane
+    passes through the cavity's corner in exact arithmetic, 1.8e-15 mm from it in floating point.
+    The corner counts as in the plane (no pyramid of no representable size cut off it, whose pieces
+    would round away), and both parts are closed with the volumes on either side."""
+    rng = np.random.default_rng(9491)
+    mesh = samples.nested_shells().transformed(random_rotation(rng))
+    lo, hi = mesh.bounds
+    normal = np.eye(3)[rng.integers(3)]
+    origin = lo + 0.2 * (hi - lo)
+    assert np.count_nonzero(normal) == 1
+    d = (mesh.triangles - origin) @ normal
+    assert 0 < np.abs(d[d != 0]).min() < 1e-14  # a corner an ulp off the plane
+    assert_cut(mesh, origin, normal)
+
+
 def test_volumes_agree_with_manifold3d():
     mf = pytest.importorskip("manifold3d")
     from slicelab.geometry.topology import weld
