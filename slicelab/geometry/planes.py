@@ -165,7 +165,8 @@ def _snap(dist: np.ndarray, bound: float) -> np.ndarray:
     return dist
 
 
-def plane_distances(frame: Frame, triangles: np.ndarray, *, snap: bool = True) -> np.ndarray:
+def plane_distances(frame: Frame, triangles: np.ndarray, *, snap: bool = True,
+                    snap_axis_planes: bool = False) -> np.ndarray:
     """Signed distance of every corner to the plane, (n, 3).
 
     For a plane whose normal has one non-zero component (x, y or z = const)
@@ -175,6 +176,13 @@ def plane_distances(frame: Frame, triangles: np.ndarray, *, snap: bool = True) -
     (`snap`), so such a corner is in the plane for sections, splits and cuts
     alike. For every plane, distances below 2^-240 mm count as zero too: a
     cut that close to a corner would leave pieces of no representable area.
+
+    `snap_axis_planes` applies the same bound to planes x, y or z = const,
+    whose distances are exact but whose corners may be meant to lie in them
+    and come out an ulp off (a cavity's corner a fifth of the way across a
+    part, the part then turned): `slicelab.cut` asks for it, as a pyramid of no
+    representable size cut off such a corner would round away and leave its
+    parts open. Sections keep exact distances there, as `slice_layers` does.
 
     Examples
     --------
@@ -186,12 +194,12 @@ def plane_distances(frame: Frame, triangles: np.ndarray, *, snap: bool = True) -
         if frame.horizontal:
             return (triangles[..., 2] - frame.origin[2]) * frame.normal[2]
         return frame.distances(triangles)
-    if frame.horizontal:  # z - z0: the sign is exact
+    if frame.horizontal and not snap_axis_planes:  # z - z0: the sign is exact
         return _snap((triangles[..., 2] - frame.origin[2]) * frame.normal[2], _TINY)
     dist = np.empty(triangles.shape[:2])
     o = frame.origin
     n0, n1, n2 = frame.normal
-    oblique = np.count_nonzero(frame.normal) > 1
+    rounded = snap_axis_planes or np.count_nonzero(frame.normal) > 1
     reach = 0.0  # the largest |p - origin| along any axis
     for s in range(0, len(triangles), _CHUNK):  # over blocks of facets, not facets
         d = triangles[s:s + _CHUNK] - o
@@ -199,10 +207,10 @@ def plane_distances(frame: Frame, triangles: np.ndarray, *, snap: bool = True) -
         x += d[..., 1] * n1  # same operations in the same order as Frame.distances
         x += d[..., 2] * n2
         dist[s:s + _CHUNK] = x
-        if oblique and len(d):
+        if rounded and len(d):
             reach = max(reach, float(d.max()), -float(d.min()))
     bound = _TINY
-    if oblique:
+    if rounded:
         # Rounding of p - o, of the products and of the sums is a few ulps of these terms.
         size = (reach + float(np.abs(o).max())) * float(np.abs(frame.normal).sum())
         bound = max(bound, 64 * np.finfo(np.float64).eps * size)

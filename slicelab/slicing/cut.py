@@ -40,10 +40,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry.planes import Frame
+from ..geometry.planes import Frame, plane_distances
 from ..mesh.core import Mesh
 from .cap import Cap, cap_segments, plane_edges
-from .split import corner_distances, split_facets
+from .split import split_facets
 
 __all__ = ["CutWarning", "CutReport", "Cut", "cut"]
 
@@ -181,7 +181,8 @@ def cut(mesh: Mesh, origin, normal) -> Cut:
     """
     frame = Frame.from_plane(origin, normal)
     t = mesh.triangles
-    dist = _snapped_to_axis_plane(frame, t, corner_distances(frame, t))
+    # (corners an ulp off a plane x, y or z = const count as in it, as on tilted planes)
+    dist = plane_distances(frame, t, snap_axis_planes=True)
     front, rear, front_src, rear_src, n_cut = split_facets(t, dist, frame)
     in_plane = ~np.any(dist != 0, axis=1)
     n_in_plane = int(np.count_nonzero(in_plane))
@@ -207,29 +208,6 @@ def cut(mesh: Mesh, origin, normal) -> Cut:
         warnings.warn(f"cut: the section did not close everywhere ({report.describe()})", CutWarning,
                       stacklevel=2)
     return Cut(Mesh(_join(rear, rear_cap)), Mesh(_join(front, front_cap)), report)
-
-
-def _snapped_to_axis_plane(frame: Frame, t: np.ndarray, dist: np.ndarray) -> np.ndarray:
-    """Corner distances to a plane x, y or z = const with those within rounding of it set to zero.
-
-    On such a plane the distances are exact, but a corner meant to lie in it (a
-    cavity's corner at exactly a fifth of the part's height, the part then
-    rotated) can come out an ulp off. The plane would then cut a pyramid of no
-    representable size off that corner, whose pieces round away and leave the
-    parts open. Within the bound `plane_distances` uses for tilted planes (64
-    ulps of the coordinates' size) the corner is taken to be in the plane, as
-    it is on a tilted one; no corner moves.
-    """
-    axis = np.flatnonzero(frame.normal)
-    if len(axis) != 1 or len(t) == 0:
-        return dist  # (a tilted plane's distances are snapped by plane_distances already)
-    k = int(axis[0])
-    size = float(np.abs(t[..., k]).max()) + abs(float(frame.origin[k]))
-    bound = 64 * np.finfo(np.float64).eps * size
-    near = (np.abs(dist) <= bound) & (dist != 0)
-    if near.any():
-        dist = np.where(near, 0.0, dist)
-    return dist
 
 
 def _rounding(frame: Frame, near: np.ndarray) -> float:
