@@ -68,14 +68,17 @@ def _write_parts(named, out) -> tuple[dict, list]:
     return results, reasons
 
 
-def _open_input(inp) -> list:
+def _open_input(inp, p=None) -> list:
+    """Why the input has no inside, with the flag that would mend it (none left after --fill-holes)."""
     r = inp.check
     if r.watertight and r.winding_consistent:
         return []
-    hint = " (near-coincident vertices: try --repair)" if r.n_near_vertices else \
+    filled = bool(p and p.get("fill_holes"))
+    hint = "" if filled else " (near-coincident vertices: try --repair)" if r.n_near_vertices else \
         f" ({r.n_holes} holes: --fill-holes closes them)" if r.n_holes else ""
-    return [reason("open_input", f"the input is not watertight: {r.n_open_edges} open, {r.n_nonmanifold_edges} "
-                                 f"non-manifold, {r.n_misoriented_edges} misoriented edges{hint}")]
+    return [reason("open_input", f"the input is not watertight{' even after --fill-holes' if filled else ''}: "
+                                 f"{r.n_open_edges} open, {r.n_nonmanifold_edges} non-manifold, "
+                                 f"{r.n_misoriented_edges} misoriented edges{hint}")]
 
 
 def _cut_write(value, inp, p, out):
@@ -102,7 +105,7 @@ def _cut_report(value, inp, p):
     rep = parts.report
     results = {"plane": {"origin": origin.tolist(), "normal": normal.tolist()}, "closed": rep.closed,
                "notes": [n for cap in (rep.rear_cap, rep.front_cap) for n in cap.notes]}
-    reasons = _open_input(inp)
+    reasons = _open_input(inp, p)
     if not rep.closed:
         reasons.append(reason("open_section", "the section did not close everywhere; the parts are not watertight"))
     if results["notes"]:
@@ -138,7 +141,7 @@ def _partition_parameters(volume=None, joint: str = "flat", clearance: float = 0
 
 def _partition_feasible(inp, p):
     from .limits import check_partition
-    why = _open_input(inp)
+    why = _open_input(inp, p)
     if why:
         raise ValueError(f"{inp.path}: {why[0]['message']}; a partition needs a closed solid")
     check_partition(inp.mesh, p["volume"], joint=p["joint"], step=p["step"])
@@ -255,16 +258,11 @@ def _slice_feasible(inp, p):
     # An open or inside-out mesh has no inside: its layers would print fragments (pins for a plate).
     # A surface whose every edge is walked as often both ways bounds a solid by winding number,
     # manifold or not (shells touching along an edge): its layers are closed loops.
-    why = _open_input(inp)
+    why = _open_input(inp, p)
     if why and not inp.check.closed_by_winding:
-        r = inp.check
-        if p.get("fill_holes"):  # (what is left is no hole a fan closes, nor float noise)
-            message = (f"the input is not watertight even after --fill-holes: {r.n_open_edges} open, "
-                       f"{r.n_nonmanifold_edges} non-manifold, {r.n_misoriented_edges} misoriented edges")
-        else:
-            hint = "" if "--" in why[0]["message"] else " (slicelab repair can close CAD noise: --repair)"
-            message = why[0]["message"] + hint
-        raise ValueError(f"{inp.path}: {message}; its layers would not be closed regions")
+        message = why[0]["message"]
+        hint = "" if "--" in message else " (slicelab repair can close CAD noise: --repair)"
+        raise ValueError(f"{inp.path}: {message}{hint}; its layers would not be closed regions")
     s = _settings(p)
     check_print(inp.mesh, layer_height=min(s.layer_height, s.first_layer_height), pixel_size=s.pixel_size,
                 line_width=s.line_width, n_perimeters=s.n_perimeters)
