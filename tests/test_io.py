@@ -159,6 +159,34 @@ def test_failed_write_leaves_no_file(tmp_path):
     assert not target.exists() and list(tmp_path.iterdir()) == []
 
 
+def test_atomic_open_steps_over_a_temporary_name_taken_and_gives_ordinary_permissions(tmp_path):
+    # A temporary name a crashed process of the same pid left behind is not written into; the file
+    # gets the mode open() gives (0666 less the umask), as before its rename; a failed write or a
+    # mode that is not writing leaves nothing.
+    import os
+
+    from slicelab.export import files
+    serial = next(files._SERIAL) + 1
+    left = tmp_path / f".a.svg.{os.getpid()}.{serial}.part"
+    left.write_text("left by a crash")
+    umask = os.umask(0o027)
+    try:
+        with files.atomic_open(tmp_path / "a.svg", "w", encoding="utf-8") as fh:
+            fh.write("<svg/>")
+    finally:
+        os.umask(umask)
+    assert (tmp_path / "a.svg").read_text() == "<svg/>" and left.read_text() == "left by a crash"
+    assert (tmp_path / "a.svg").stat().st_mode & 0o777 == 0o640
+    with pytest.raises(ValueError, match="not a writing mode"):
+        with files.atomic_open(tmp_path / "b.svg", "r"):
+            pass
+    with pytest.raises(RuntimeError):
+        with files.atomic_open(tmp_path / "c.svg", "wb") as fh:
+            fh.write(b"half")
+            raise RuntimeError("disk full")
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([left.name, "a.svg"])
+
+
 def test_save_replaces_atomically_and_leaves_no_temporary(tmp_path):
     save(box(), tmp_path / "a.stl")
     save(box((0, 0, 0), (2, 2, 2)), tmp_path / "a.stl")
