@@ -298,6 +298,40 @@ def test_cli_previews_drawn_by_a_pool_are_the_serial_ones(tmp_path, data_dir):
     assert np.count_nonzero(np.abs(img - outer).max(axis=2) < 40) > 500
 
 
+def test_layer_svgs_drawn_while_planning_are_those_drawn_after(tmp_path):
+    # The planner's workers draw each layer (layer_drawings) as `slice --preview` asks: the files
+    # read back from disk are byte for byte those drawn after planning, and each path's points,
+    # taken back through the page, are the plan's own (skirt included, all inside the extent).
+    import xml.etree.ElementTree as ET
+
+    from slicelab.export.layer_svgs import layer_drawings
+    from slicelab.toolpath.roles import STYLES
+    mesh = cube_with_hole(size=12.0, radius=3.0)
+    s = PrintSettings(**FAST, skirt_loops=2, skirt_distance=3.0)
+    ahead = plan(mesh, s, workers=2, layer_drawing=layer_drawings)
+    after = plan(mesh, s, workers=1)
+    assert sorted(ahead.drawings) == list(range(len(ahead.layers))) and not after.drawings
+    a, b = write_svgs(ahead, tmp_path / "a"), write_svgs(after, tmp_path / "b", workers=1)
+    assert len(a) == len(ahead.layers) and all(x.read_bytes() == y.read_bytes() for x, y in zip(a, b))
+    x0, y0, x1, y1 = ahead.extent
+    reach = 3.0 + 2 * s.line_width  # the skirt's outer edge: its distance and two lines
+    assert np.allclose(ahead.extent, [-reach, -reach, 12 + reach, 12 + reach])
+    ns = {"s": "http://www.w3.org/2000/svg"}
+    for k in (0, len(a) // 2):
+        root = ET.parse(a[k]).getroot()
+        assert root.get("width") == f"{x1 - x0 + 4:.6g}mm"
+        got = []
+        for path in root.iterfind("s:path", ns):
+            pts = np.array([[float(v) for v in xy.split(",")] for xy in path.get("d")[1:].split(" L")])
+            got.append((path.find("s:title", ns).text, np.c_[pts[:, 0] + x0 - 2, y1 + 2 - pts[:, 1]]))
+        want = list(ahead.layers[k].pieces())
+        assert [t for t, _ in got] == [STYLES[kind].gcode_type for kind, _, _ in want]
+        for (_, xy), (_, q, _) in zip(got, want):
+            assert np.abs(xy - q).max() < 1e-3
+            assert np.all((xy >= [x0, y0]) & (xy <= [x1, y1]))
+    assert [t.text for t in ET.parse(a[0]).getroot().iterfind("s:path/s:title", ns)][:2] == ["Skirt/Brim"] * 2
+
+
 def test_cli_slice(tmp_path, data_dir):
     out = tmp_path / "c.gcode"
     r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(data_dir / "cube_with_hole.stl"), "-o",

@@ -15,10 +15,10 @@ from __future__ import annotations
 from .._lazy import attach
 
 # Submodule of each public name: they load on first use (matplotlib and the like are slow to import).
-_WHERE = {"WrittenMesh": "meshes", "write_mesh": "meshes", "as_float32": "meshes", "SvgDrawing": "svg", "atomic_path": "files", "atomic_open": "files", "write_gcode": "gcode", "gcode_lines": "gcode", "write_svgs": "layer_svgs", "layer_fan": "gcode", "layer_texts": "gcode"}
+_WHERE = {"WrittenMesh": "meshes", "write_mesh": "meshes", "as_float32": "meshes", "SvgDrawing": "svg", "atomic_path": "files", "atomic_open": "files", "write_gcode": "gcode", "gcode_lines": "gcode", "write_svgs": "layer_svgs", "layer_fan": "gcode", "layer_texts": "gcode", "layer_drawings": "layer_svgs", "svg_page": "layer_svgs"}
 
 
-__all__ = ["WrittenMesh", "write_mesh", "as_float32", "SvgDrawing", "atomic_path", "atomic_open", "write_gcode", "gcode_lines", "write_svgs", "layer_fan", "layer_texts"]
+__all__ = ["WrittenMesh", "write_mesh", "as_float32", "SvgDrawing", "atomic_path", "atomic_open", "write_gcode", "gcode_lines", "write_svgs", "layer_fan", "layer_texts", "layer_drawings", "svg_page"]
 
 
 __getattr__, __dir__ = attach(__name__, _WHERE, globals())

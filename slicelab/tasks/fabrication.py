@@ -274,22 +274,34 @@ def _slice_feasible(inp, p):
 
 
 def _slice_compute(inp, p):
-    from ..export import layer_texts
+    from ..export import layer_drawings, layer_texts
     from ..toolpath import plan
-    # The workers format each layer's G-code as they plan it: the writer then only joins the text.
-    return plan(inp.mesh, _settings(p), workers=p["workers"], layer_text=layer_texts)
+    # The workers format each layer's G-code (and draw its preview) as they plan it: the writers
+    # then only join the text and write the files.
+    return plan(inp.mesh, _settings(p), workers=p["workers"], layer_text=layer_texts,
+                layer_drawing=layer_drawings if p["preview"] else None)
 
 
 def _slice_write(pp, inp, p, out):
     from ..export import write_gcode
-    totals = write_gcode(pp, out.path("gcode"), workers=p["workers"])
-    if p["preview"]:
-        if out.folder is None:
-            raise ValueError("a preview needs a folder")
-        from ..export import write_svgs
-        from ..viz import preview_png
-        out.record("svg", write_svgs(pp, out.folder, workers=p["workers"]))
+    if not p["preview"]:
+        totals = write_gcode(pp, out.path("gcode"), workers=p["workers"])
+        return {"results": {"print_time": totals["seconds"], "filament_used": totals["filament"]}}
+    if out.folder is None:
+        raise ValueError("a preview needs a folder")
+    from ..export import write_svgs
+    from ..viz import preview_png
+    totals = write_gcode(pp, out.path("gcode"), workers=p["workers"])  # (may fork: before any thread)
+    svgs = []
+    # The layers the planner's workers drew are only files to write: on a thread while the PNG is
+    # drawn (file output and OpenCV let go of the GIL). Layers left to draw may need a pool,
+    # which is not forked beside a thread.
+    ahead = len(pp.drawings) == len(pp.layers)
+    with drawn_meanwhile((lambda: svgs.extend(write_svgs(pp, out.folder, workers=1))) if ahead else None):
+        if not ahead:
+            svgs += write_svgs(pp, out.folder, workers=p["workers"])
         preview_png(pp, out.path("preview"))
+    out.record("svg", svgs)
     return {"results": {"print_time": totals["seconds"], "filament_used": totals["filament"]}}
 
 

@@ -83,6 +83,12 @@ class PrintPlan:
     texts : dict
         Layers whose G-code the workers formatted as they planned them (``layer_text``):
         index -> (the nozzle's start, the layer's block), taken by the G-code writer.
+    extent : (4,) tuple
+        ``(x0, y0, x1, y1)``, part coordinates (mm): the box of the part's footprint and of
+        its skirt and brim's outer edges, which holds every path.
+    drawings : dict
+        Layers the workers drew as they planned them (``layer_drawing``): index -> the
+        layer's SVG document, taken by `slicelab.export.layer_svgs.write_svgs`.
 
     See Also
     --------
@@ -99,6 +105,8 @@ class PrintPlan:
     seconds: dict = field(default_factory=dict)
     overhangs: np.ndarray = field(default_factory=lambda: np.zeros((0, 6)))
     texts: dict = field(default_factory=dict, repr=False)
+    extent: tuple = (0.0, 0.0, 0.0, 0.0)
+    drawings: dict = field(default_factory=dict, repr=False)
 
     def warnings(self) -> list[dict]:
         """What will not print as planned, each a dict with a ``code`` and a ``message``.
@@ -180,8 +188,9 @@ _GROUP = 5  # runs per call at most: a worker's call holds the rasters of its la
 
 
 def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, s: PrintSettings,
-               layer_text=None, heights=None):
-    """Toolpaths of layers first..stop-1 of n (and, given `layer_text`, their text: see `plan`).
+               layer_text=None, heights=None, layer_drawing=None, extent=None):
+    """Toolpaths of layers first..stop-1 of n (and, given `layer_text` and `layer_drawing`, their
+    text and drawings: see `plan`).
 
     `window` maps a layer's index to its section for these layers and the
     `bottom_layers` below and `top_layers` above them (their skins need them);
@@ -267,10 +276,10 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
         lp = replace(lp, z=float(z_tops[k - first]), perimeters=None)
         lp.extruded_area()  # summed here, on all cores: the sums travel with the layer (its cached state)
         out.append((k, lp, areas, held, ov.unheld if ov is not None else ()))
-    if layer_text is None:
-        return out
-    texts = layer_text(first, [r[1] for r in out], heights)
-    return [(*r, t) for r, t in zip(out, texts)]
+    layers = [r[1] for r in out]
+    texts = [None] * len(out) if layer_text is None else layer_text(first, layers, heights)
+    drawings = [None] * len(out) if layer_drawing is None else layer_drawing(layers, extent)
+    return [(*r, t, d) for r, t, d in zip(out, texts, drawings)]
 
 
 def _areas(lp, raster, solid, s: PrintSettings) -> tuple[float, float, float, float]:
@@ -300,7 +309,7 @@ def _areas(lp, raster, solid, s: PrintSettings) -> tuple[float, float, float, fl
 
 
 def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | None = None,
-         progress: bool | None = None, layer_text=None) -> PrintPlan:
+         progress: bool | None = None, layer_text=None, layer_drawing=None) -> PrintPlan:
     """Plan a whole print: slice, find skins, make every layer's toolpaths in parallel.
 
     Parameters
@@ -317,6 +326,10 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
         returns per layer, when not None, goes to `PrintPlan.texts`. The G-code writer's
         `slicelab.export.gcode.layer_texts` formats their G-code there, on all cores. Not
         called with supports, which are added to the layers afterwards.
+    layer_drawing : callable, optional
+        ``layer_drawing(layers, extent)``, called by the workers likewise (extent: `PrintPlan.extent`):
+        what it returns per layer goes to `PrintPlan.drawings`. The layer SVGs' own
+        `slicelab.export.layer_svgs.layer_drawings` draws them there. Not called with supports.
 
     Returns
     -------
@@ -374,11 +387,13 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     heights = bounds[:, 1] - bounds[:, 0]
     offset = np.array([s.centre[0] - (lo[0] + hi[0]) / 2, s.centre[1] - (lo[1] + hi[1]) / 2, -lo[2]])
     text = None if layer_text is None or s.support != "off" else partial(layer_text, settings=s, offset=offset)
+    drawing = None if s.support != "off" else layer_drawing
+    extent = _extent(lo[:2], hi[:2], sections[0], s)
 
     def job(a, b):
         """The arguments of run a..b-1: its layers and the neighbours its skins look at."""
         lo, hi = max(0, a - s.bottom_layers - 1), min(n, b + s.top_layers)  # (the skins of a - 1 too)
-        return a, b, n, {j: sections[j] for j in range(lo, hi)}, z_tops[a:b], s, text, heights[a:b]
+        return a, b, n, {j: sections[j] for j in range(lo, hi)}, z_tops[a:b], s, text, heights[a:b], drawing, extent
 
     results = []
     # Fixed runs of layers, whatever the number of workers: a run carries the nozzle from
@@ -413,10 +428,22 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     overhangs = np.array([r[3] for r in results], np.float64).reshape(-1, 6)
     if s.support != "off":
         layers = _with_supports(layers, sections, [r[4] for r in results], s)
-    texts = {r[0]: r[5] for r in results if text is not None and r[5] is not None}
+    texts = {r[0]: r[5] for r in results if r[5] is not None}
+    drawings = {r[0]: r[6] for r in results if r[6] is not None}
     t2 = time.perf_counter()
     return PrintPlan(s, layers, heights, offset, areas, float(np.sum(areas[:, 0] * heights)),
-                     {"slice": t1 - t0, "paths": t2 - t1}, overhangs, texts)
+                     {"slice": t1 - t0, "paths": t2 - t1}, overhangs, texts, extent, drawings)
+
+
+def _extent(lo: np.ndarray, hi: np.ndarray, first, s: PrintSettings) -> tuple:
+    """`PrintPlan.extent`: the footprint's box (`lo`, `hi`), and the first layer's box widened by
+    how far its skirt and brim reach."""
+    from .skirt import skirt_margin
+    margin = skirt_margin(s.line_width, s.skirt_loops, s.skirt_distance, s.brim_width)
+    if margin > 0 and len(first.segments):
+        flo, fhi = first.bounds()
+        lo, hi = np.minimum(lo, flo[:2] - margin), np.maximum(hi, fhi[:2] + margin)
+    return tuple(float(v) for v in (*lo, *hi))
 
 
 def _with_supports(layers: list, sections: list, unheld: list, s: PrintSettings) -> list:
