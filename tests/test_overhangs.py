@@ -254,6 +254,9 @@ def test_supports_hold_the_cap_of_a_mushroom(tmp_path):
         {k: len([r for r in v if not (r[0] == "support" and np.array_equal(r[1][0], r[1][-1]))])
          for k, v in rows.items() if v}
     assert pp.warnings() == []  # held
+    # Supports reach a support pixel past the cap: the plan's extent (the SVGs' page) holds them.
+    every = np.concatenate([q for lp in pp.layers for q in lp.paths])
+    assert every.min() < 0 and np.all((every >= pp.extent[:2]) & (every <= pp.extent[2:]))
     path = tmp_path / "m.gcode"
     write_gcode(pp, path)
     text = path.read_text()

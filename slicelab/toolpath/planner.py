@@ -428,6 +428,11 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     overhangs = np.array([r[3] for r in results], np.float64).reshape(-1, 6)
     if s.support != "off":
         layers = _with_supports(layers, sections, [r[4] for r in results], s)
+        # Support lines may reach a little past the footprint (drawn after planning: no layer is yet).
+        pts = [q for lp in layers for q in lp.paths if len(q)]
+        if pts:
+            pts = np.concatenate(pts)
+            extent = (*np.minimum(extent[:2], pts.min(axis=0)).tolist(), *np.maximum(extent[2:], pts.max(axis=0)).tolist())
     texts = {r[0]: r[5] for r in results if r[5] is not None}
     drawings = {r[0]: r[6] for r in results if r[6] is not None}
     t2 = time.perf_counter()
