@@ -16,7 +16,7 @@ checked on real defective inputs too (a refusal counts as the same when both tre
 the same message).
 
 ``--preview`` has both trees draw their previews too (an SVG per layer, compared byte for byte
-with the G-code, and a PNG).
+and said apart from the G-code, and a PNG).
 
     python scripts/bench_revisions.py REV [--repeat 3] [--mesh FILE ...] [--defects K] [--preview]
 """
@@ -96,7 +96,7 @@ def main(argv=None) -> int:
     if args.defects:
         parts = defect_parts(args.defects)
     extra = ["--repair"] if args.defects else []
-    tally = {"same": 0, "refused alike": 0, "DIFFERS": 0}
+    tally = {"same": 0, "refused alike": 0, "DIFFERS": 0, "SVGs differ": 0}
     work = Path(tempfile.mkdtemp(prefix="bench_rev_"))
     other = work / "tree"
     subprocess.run(["git", "worktree", "add", "--detach", str(other), args.rev], cwd=ROOT, check=True,
@@ -127,20 +127,23 @@ def main(argv=None) -> int:
             for _ in range(args.repeat):
                 for name, tree in trees.items():
                     runs[name].append(timed(command(name), tree, True)[0])
+            drawn = ""
             if any(refused.values()):
                 verdict = "refused alike" if refused["this tree"] == refused[args.rev] else "DIFFERS"
             else:
                 same = outs["this tree"].read_bytes() == outs[args.rev].read_bytes()
+                verdict = "same" if same else "DIFFERS"
                 if args.preview:  # every layer's SVG too (the PNG is a picture: not compared)
                     a, b = (sorted(shown[name].glob("*.svg")) for name in trees)
-                    same = same and [f.name for f in a] == [f.name for f in b] and \
+                    svgs = [f.name for f in a] == [f.name for f in b] and \
                         all(x.read_bytes() == y.read_bytes() for x, y in zip(a, b))
-                verdict = "same" if same else "DIFFERS"
+                    drawn = ", SVGs same" if svgs else ", SVGs DIFFER"
+                    tally["SVGs differ"] += not svgs
             tally[verdict] += 1
             med = {name: statistics.median(ts) if ts else float("nan") for name, ts in runs.items()}
             print(f"{label:<26}" + "".join(f"{name}: {min(ts, default=float('nan')):6.2f} / {med[name]:6.2f}   "
                                            for name, ts in runs.items())
-                  + f"ratio {med['this tree'] / med[args.rev]:.2f}   G-code {verdict}")
+                  + f"ratio {med['this tree'] / med[args.rev]:.2f}   G-code {verdict}{drawn}")
         print("parts: " + ", ".join(f"{v} {k}" for k, v in tally.items()))
     finally:
         subprocess.run(["git", "worktree", "remove", "--force", str(other)], cwd=ROOT, capture_output=True)
