@@ -8,12 +8,14 @@ bounding box; both parts are written as STL with `write_mesh` and read back,
 and a part counts as closed when the file checks watertight.
 
     python scripts/robustness.py [--planes 5] [--root ../shared/meshes] [--seed 0]
-    python scripts/robustness.py --slice [--root ../shared/meshes/defects]
+    python scripts/robustness.py --slice [--preview] [--root ../shared/meshes/defects]
 
 ``--slice`` instead runs `slicelab slice FILE --fill-holes` (the command line, one process, a
 bed large enough for every file) on every mesh and counts what a user would meet: printed (exit 0,
 G-code with layers on disk), refused (exit 2 with a one-line error) and failed (anything else,
-with its last line). Cost: each file's slice, linear in its layers.
+with its last line). With ``--preview`` the slices run on all cores with their previews, and a
+file counts as printed only with an SVG per layer of its G-code and the PNG on disk. Cost: each
+file's slice, linear in its layers.
 
 Prints one line per file, the totals, and one line per part not closed on
 disk with its cause: not closed in memory already (the cut) or lost in the
@@ -50,8 +52,10 @@ def _cause(part, on_disk, out) -> str:
     return "watertight in memory, not in float32 (the writing): " + edges
 
 
-def _slice_all(files: list, root: Path) -> int:
-    """`slicelab slice --fill-holes` on every file: printed, refused in one line, or failed."""
+def _slice_all(files: list, root: Path, preview: bool = False) -> int:
+    """`slicelab slice --fill-holes` on every file: printed, refused in one line, or failed (with
+    `preview`, on all cores with its previews: printed only with an SVG per layer and the PNG)."""
+    import shutil
     import subprocess
     counts = {"printed": 0, "refused": 0, "failed": 0}
     failures, refusals = [], {}
@@ -59,13 +63,21 @@ def _slice_all(files: list, root: Path) -> int:
     with tempfile.TemporaryDirectory() as tmp:
         for path in files:  # over files
             rel = path.relative_to(root)
-            out = Path(tmp) / "part.gcode"
+            out, shown = Path(tmp) / "part.gcode", Path(tmp) / "preview"
             out.unlink(missing_ok=True)
+            shutil.rmtree(shown, ignore_errors=True)
+            extra = ["--preview", str(shown)] if preview else ["--workers", "1"]
             r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(path), "-o", str(out), "--fill-holes",
-                                "--workers", "1", "--bed-size", "2000x2000", "--max-height", "2000"],
+                                "--bed-size", "2000x2000", "--max-height", "2000", *extra],
                                capture_output=True, text=True, cwd=ROOT)
             lines = r.stderr.strip().splitlines()
-            if r.returncode == 0 and out.exists() and ";LAYER_CHANGE" in out.read_text():
+            layers = out.read_text().count(";LAYER_CHANGE") if r.returncode == 0 and out.exists() else 0
+            drawn = len(list(shown.glob("layer_*.svg"))) if preview else layers
+            if layers and (drawn != layers or (preview and not (shown / "preview.png").exists())):
+                lines = [f"{drawn} layer SVGs for {layers} layers" + ("" if (shown / "preview.png").exists()
+                                                                       else ", no preview.png")]
+                r.returncode = -1
+            if r.returncode == 0 and layers:
                 kind, say = "printed", next((x for x in r.stdout.splitlines() if x.startswith("repair:")), "")
             elif r.returncode == 2 and len([x for x in lines if "error:" in x]) == 1 and not out.exists():
                 kind, say = "refused", lines[-1].split(": ", 3)[-1]
@@ -93,6 +105,7 @@ def main(argv=None) -> int:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--max-facets", type=int, default=2_000_000, help="skip larger files")
     ap.add_argument("--slice", action="store_true", help="slice every file (--fill-holes) instead of cutting")
+    ap.add_argument("--preview", action="store_true", help="with --slice: on all cores, previews drawn and counted")
     ap.add_argument("--keep", type=Path, default=None,
                     help="save the float64 triangles of each part not closed on disk here (.npy)")
     args = ap.parse_args(argv)
@@ -102,7 +115,7 @@ def main(argv=None) -> int:
     rng = np.random.default_rng(args.seed)
     files = sorted(p for p in args.root.rglob("*") if p.is_file() and p.suffix.lower() == ".stl")
     if args.slice:
-        return _slice_all(files, args.root)
+        return _slice_all(files, args.root, args.preview)
     totals = dict(files=0, refused=0, repaired=0, open_input=0, cuts=0, parts=0, closed=0, noted=0)
     reasons: dict[str, int] = {}
     failures: list[str] = []
