@@ -156,7 +156,7 @@ def test_a_slice_imports_neither_scipy_nor_scikit_image(tmp_path):
         assert "loaded: []" in r.stdout
         assert out.read_bytes().count({wall: b";TYPE:Gap fill", noisy: b";TYPE:External perimeter"}.get(
             part, b";TYPE:Support material")) > 0
-        assert part != noisy or "snapped 1 near-coincident vertices" in r.stdout + r.stderr
+        assert part != noisy or "snapped 1 near-coincident vertex" in r.stdout + r.stderr
 
 
 def _chains_by_list_ranking(start_key, end_key):

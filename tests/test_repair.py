@@ -196,10 +196,12 @@ def test_holes_are_closed_and_the_parts_stay_closed_on_disk(tmp_path):
         save(holed, path)
         before = check(load(path))
         assert not before.watertight and before.n_open_edges > 0 and before.n_near_vertices == 0
-        assert before.n_holes == holes and f"({holes} holes: --fill-holes closes them)" in str(before)
+        said = "(1 hole: --fill-holes closes it)" if holes == 1 else f"({holes} holes: --fill-holes closes them)"
+        assert before.n_holes == holes and said in str(before)
         fixed = repair(load(path), fill_holes=True)
         assert fixed.report.n_holes_filled == holes
-        assert any(f"filled {holes} holes" in c for c in fixed.report.changes())
+        assert any(c.startswith("filled 1 hole (" if holes == 1 else f"filled {holes} holes (the largest")
+                   for c in fixed.report.changes())
         save(fixed.mesh, tmp_path / "filled.stl")
         after = check(load(tmp_path / "filled.stl"))
         assert after.watertight and after.winding_consistent and after.n_shells == check(whole).n_shells
@@ -217,10 +219,10 @@ def test_slice_names_the_holes_and_fills_them_when_asked(tmp_path):
     out = tmp_path / "part.gcode"
     base = [sys.executable, "-m", "slicelab", "slice", str(part), "-o", str(out), "--workers", "1"]
     r = subprocess.run(base, capture_output=True, text=True)
-    assert r.returncode == 2 and "(1 holes: --fill-holes closes them)" in r.stderr
+    assert r.returncode == 2 and "(1 hole: --fill-holes closes it)" in r.stderr
     assert len(r.stderr.strip().splitlines()) == 1
     assert not out.exists()
     r = subprocess.run(base + ["--fill-holes"], capture_output=True, text=True)
     assert r.returncode == 0, r.stderr
-    assert "filled 1 holes (the largest 14.4 mm across)" in r.stdout + r.stderr
+    assert "filled 1 hole (14.4 mm across)" in r.stdout + r.stderr
     assert out.read_text().count(";LAYER_CHANGE") == 5

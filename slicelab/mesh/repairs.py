@@ -99,15 +99,19 @@ def near_vertex_pairs(vertices: np.ndarray, tolerance: float) -> np.ndarray:
     return pairs[keep]
 
 
-# The sentence `RepairReport.changes` gives for each count that is not 0, in this order.
+# The sentence `RepairReport.changes` gives for each count that is not 0, in this order: for one,
+# and for more.
 _SENTENCES = (
-    ("n_snapped_vertices", "snapped {n} near-coincident vertices (within {tolerance:.2g} mm)"),
-    ("n_collapsed_removed", "removed {n} collapsed facets"),
-    ("n_duplicates_removed", "removed {n} duplicate facets"),
-    ("n_flipped", "reversed {n} facets to agree with their neighbours"),
-    ("n_shells_turned_outward", "turned {n} inside-out shells outward"),
-    ("n_non_orientable_shells", "{n} shells cannot be oriented (left as they are)"),
-    ("n_holes_filled", "filled {n} holes (the largest {largest_hole:.3g} mm across)"),
+    ("n_snapped_vertices", "snapped 1 near-coincident vertex (within {tolerance:.2g} mm)",
+     "snapped {n} near-coincident vertices (within {tolerance:.2g} mm)"),
+    ("n_collapsed_removed", "removed 1 collapsed facet", "removed {n} collapsed facets"),
+    ("n_duplicates_removed", "removed 1 duplicate facet", "removed {n} duplicate facets"),
+    ("n_flipped", "reversed 1 facet to agree with its neighbours", "reversed {n} facets to agree with their neighbours"),
+    ("n_shells_turned_outward", "turned 1 inside-out shell outward", "turned {n} inside-out shells outward"),
+    ("n_non_orientable_shells", "1 shell cannot be oriented (left as it is)",
+     "{n} shells cannot be oriented (left as they are)"),
+    ("n_holes_filled", "filled 1 hole ({largest_hole:.3g} mm across)",
+     "filled {n} holes (the largest {largest_hole:.3g} mm across)"),
 )
 
 
@@ -156,8 +160,9 @@ class RepairReport:
 
     def changes(self) -> list[str]:
         """One sentence for each kind of change made."""
-        return [sentence.format(n=getattr(self, name), tolerance=self.tolerance, largest_hole=self.largest_hole)
-                for name, sentence in _SENTENCES if getattr(self, name)]
+        return [(one if getattr(self, name) == 1 else more).format(n=getattr(self, name), tolerance=self.tolerance,
+                                                                   largest_hole=self.largest_hole)
+                for name, one, more in _SENTENCES if getattr(self, name)]
 
     def to_dict(self) -> dict:
         """Plain-Python dictionary, ready for JSON."""

@@ -113,9 +113,10 @@ class MeshReport:
             f"flipped normals   {self.n_flipped_normals}",
             f"zero normals      {self.n_zero_normals}",
             f"open edges        {self.n_open_edges}"
-            + (f" ({self.n_near_vertices} near-coincident vertices: slicelab.repair closes them)"
-               if self.n_near_vertices else f" ({self.n_holes} holes: --fill-holes closes them)"
-               if self.n_holes else ""),
+            + (f" ({self.n_near_vertices} near-coincident {'vertex' if self.n_near_vertices == 1 else 'vertices'}:"
+               " slicelab.repair closes them)" if self.n_near_vertices
+               else " (1 hole: --fill-holes closes it)" if self.n_holes == 1
+               else f" ({self.n_holes} holes: --fill-holes closes them)" if self.n_holes else ""),
             f"non-manifold      {self.n_nonmanifold_edges}"
             + (" (each walked as often both ways: closed by winding number, slice reads it)"
                if self.n_nonmanifold_edges and self.closed_by_winding else ""),

@@ -75,6 +75,7 @@ def _open_input(inp, p=None) -> list:
         return []
     filled = bool(p and p.get("fill_holes"))
     hint = "" if filled else " (near-coincident vertices: try --repair)" if r.n_near_vertices else \
+        " (1 hole: --fill-holes closes it)" if r.n_holes == 1 else \
         f" ({r.n_holes} holes: --fill-holes closes them)" if r.n_holes else ""
     return [reason("open_input", f"the input is not watertight{' even after --fill-holes' if filled else ''}: "
                                  f"{r.n_open_edges} open, {r.n_nonmanifold_edges} non-manifold, "
