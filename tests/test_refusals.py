@@ -50,6 +50,27 @@ def test_impossible_work_is_refused_up_front(case, files):
     assert not files["out"].exists() or not any(files["out"].rglob("*.stl"))  # nothing half-written
 
 
+def test_a_part_too_thin_for_any_line_is_refused_and_a_pillar_a_line_wide_prints(tmp_path):
+    # A 0.3 mm pillar holds no 0.4 mm line: the planner finds nothing but its skirt, and the command
+    # says so in one line, writing neither G-code nor previews; a 1 mm pillar prints its perimeter.
+    from slicelab.toolpath import PrintSettings, plan
+    with pytest.raises(ValueError, match=r"^nothing to print: the part \(0.3 x 0.3 x 2 mm\) is too thin"):
+        plan(box((0, 0, 0), (0.3, 0.3, 2)), PrintSettings(), workers=1)
+    for side, code in ((0.3, 2), (1.0, 0)):
+        slicelab.save(box((0, 0, 0), (side, side, 2)), tmp_path / f"{side}.stl")
+        out = tmp_path / f"out{side}"
+        r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(tmp_path / f"{side}.stl"), "-o",
+                            str(out / "p.gcode"), "--preview", str(out)], capture_output=True, text=True, timeout=120)
+        assert r.returncode == code, r.stderr
+        if code:
+            assert len(r.stderr.strip().splitlines()) == 1 and "nothing to print" in r.stderr
+            assert not out.exists() or not any(out.iterdir())
+        else:
+            text = (out / "p.gcode").read_text()
+            assert text.count(";LAYER_CHANGE") == 10 and ";TYPE:External perimeter" in text
+            assert len(list(out.glob("layer_*.svg"))) == 10
+
+
 def test_negative_coordinates_can_be_typed_the_usual_way(tmp_path, data_dir):
     r = subprocess.run([sys.executable, "-m", "slicelab", "cut", str(data_dir / "pot.stl"), "--origin", "-3,2,60",
                         "--normal", "0.1,-0.2,1", "--no-preview", "-o", str(tmp_path / "c")],

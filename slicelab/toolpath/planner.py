@@ -335,6 +335,12 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     -------
     PrintPlan
 
+    Raises
+    ------
+    ValueError
+        When there is nothing to print (no facets, a flat part, or a part too thin for any line:
+        a plan of its skirt alone), or the part does not fit the printer (`check_bed`).
+
     See Also
     --------
     slicelab.toolpath.paths.layer_paths : one layer's toolpaths.
@@ -424,6 +430,10 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
         bar.close()
     results.sort(key=lambda r: r[0])
     layers = [r[1] for r in results]
+    if not any(k not in ("skirt", "brim") for lp in layers for k in lp.kind):
+        size = " x ".join(f"{v:.3g}" for v in hi - lo)
+        raise ValueError(f"nothing to print: the part ({size} mm) is too thin for lines {s.line_width:g} mm "
+                         f"wide, or it is a surface without volume")
     areas = np.array([r[2] for r in results]).reshape(-1, 4)
     overhangs = np.array([r[3] for r in results], np.float64).reshape(-1, 6)
     if s.support != "off":
