@@ -334,15 +334,18 @@ def open_mask(mask, radius: int):
         opened = cv2.morphologyEx(mask.mask.astype(np.uint8), cv2.MORPH_OPEN, kernel).astype(bool)
         return GridMask(opened, mask.row0, mask.col0, mask.pixel_size) if opened.any() else None
     b = mask.blocks.size
-    if not mask.blocks.n_full:
-        # Slivers only (a sloped wall's edge) are known from the erosion of the active blocks
-        # alone: with no full block, nothing outside them survives it.
-        core = mask.blocks.mosaic(mask.bits.view(np.uint8), radius, np.uint8(0), np.uint8(1))
-        # Only the blocks' own pixels are eroded right: a halo pixel's disc reaches past the
-        # halo into the next block of the mosaic.
-        if not mask.blocks.cores(cv2.erode(core, kernel), radius).any():
-            return None
     halo = 2 * radius
+    if not mask.blocks.n_full:
+        # No full block (a sloped wall's edge, slivers): the mask, and so its opening, lies in the
+        # active blocks, which are opened alone, with no neighbour held. With a halo of twice the
+        # radius, the erosion is right within a radius of each block and the dilation on the block.
+        g = mask.blocks
+        eroded = cv2.erode(g.mosaic(mask.bits.view(np.uint8), halo, np.uint8(0), np.uint8(1)), kernel)
+        if not g.cores(eroded, halo).any():  # slivers only: nothing survives the erosion
+            return None
+        opened = _as_blocks(g, g.cores(cv2.dilate(eroded, kernel), halo), mask.row0, mask.col0, mask.shape,
+                            mask.pixel_size)
+        return opened if len(opened.blocks) or opened.blocks.n_full else None
     grid, bits = mask.blocks.widen(mask.bits, False, True, -(-halo // b))
     image = grid.mosaic(bits.view(np.uint8), halo, np.uint8(0), np.uint8(1))
     eroded = cv2.erode(image, kernel)
