@@ -332,6 +332,39 @@ def test_layer_svgs_drawn_while_planning_are_those_drawn_after(tmp_path):
     assert [t.text for t in ET.parse(a[0]).getroot().iterfind("s:path/s:title", ns)][:2] == ["Skirt/Brim"] * 2
 
 
+@pytest.mark.parametrize("part", ["stepped block", "cube with a hole"])
+def test_layers_that_repeat_take_the_toolpaths_two_below(part, tmp_path, monkeypatch):
+    # Prismatic stretches (a 12 mm block with a 4 mm column on it; a cube with a round hole, whose
+    # walls are cut where each layer meets the facets' diagonals): the planner computes the
+    # toolpaths of far fewer layers than it plans, and the G-code written and read back is the one
+    # every layer planned afresh gives, byte for byte, skins round the step included.
+    import slicelab.toolpath.paths as paths
+    import slicelab.toolpath.repeats as repeats
+    if part == "stepped block":
+        occ = np.zeros((3, 3, 3), bool)
+        occ[:, :, :2] = True
+        occ[1, 1, 2] = True
+        mesh = voxels(occ, (4.0, 4.0, 4.0))
+    else:
+        mesh = cube_with_hole(size=12.0, radius=3.0)
+    s = PrintSettings(pixel_size=0.1)
+    computed = []
+    real = paths.layer_paths
+    monkeypatch.setattr(paths, "layer_paths", lambda *a, **k: computed.append(k["layer_index"]) or real(*a, **k))
+    reused = plan(mesh, s, workers=1)  # (in this process: its layer_paths calls are counted)
+    n_reused = len(reused.layers) - len(computed)
+    write_gcode(plan(mesh, s, workers=2), tmp_path / "reused.gcode")  # the pool's workers reuse alike
+    monkeypatch.setattr(repeats, "same_outline", lambda a, b: False)  # every layer planned afresh
+    computed.clear()
+    fresh = plan(mesh, s, workers=1)
+    write_gcode(fresh, tmp_path / "fresh.gcode")
+    assert len(computed) == len(fresh.layers) == len(reused.layers) == 60
+    assert n_reused >= 0.5 * len(fresh.layers), n_reused
+    assert (tmp_path / "reused.gcode").read_bytes() == (tmp_path / "fresh.gcode").read_bytes()
+    assert [lp.kinds() for lp in reused.layers] == [lp.kinds() for lp in fresh.layers]
+    assert np.allclose(reused.areas, fresh.areas) and np.array_equal(reused.overhangs, fresh.overhangs, equal_nan=True)
+
+
 def test_cli_slice(tmp_path, data_dir):
     out = tmp_path / "c.gcode"
     r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(data_dir / "cube_with_hole.stl"), "-o",

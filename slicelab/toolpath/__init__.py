@@ -21,6 +21,7 @@
 ``toolpath.supports``      support material under unheld overhangs and mid-air islands
 ``toolpath.settings``       `PrintSettings` in groups (extrusion, infill, skins, motion, ...)
 ``toolpath.printers``       printer profiles, TOML settings files, start and end G-code
+``toolpath.repeats``        layers that repeat: outlines compared, a prismatic stretch planned once
 ``toolpath.planner``        `plan` a whole part -> `PrintPlan`
 ``toolpath.pool``           the forked process pool that plans layers and formats G-code
 ==========================  =====================================================
@@ -51,7 +52,7 @@ _WHERE = {"PRINTERS": "printers", "FLAVORS": "printers", "resolve_settings": "pr
           "PrintSettings": "settings", "settings_dict": "settings", "Bridge": "overhangs", "LayerOverhangs": "overhangs", "layer_overhangs": "overhangs", "mark_overhangs": "overhangs", "PERIMETER_KINDS": "overhangs", "setting_names": "settings",
           "Extrusion": "settings", "Infill": "settings", "Skins": "settings", "Motion": "settings",
           "Cooling": "settings", "Adhesion": "settings", "Walls": "settings", "Supports": "settings", "PIXEL": "supports", "layer_skins": "skins", "SUPPORTS": "supports", "support_masks": "supports", "support_paths": "supports", "Machine": "settings", "Raster": "settings",
-          "GROUPS": "settings"}
+          "GROUPS": "settings", "outline_key": "repeats", "same_outline": "repeats", "same_point": "repeats"}
 
 
 __all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_config", "render_gcode", "MARLIN_START", "MARLIN_END", "GridMask", "BlockMask", "bits_in_blocks", "open_mask", "LayerRaster", "RasterContours", "rasterize", "layer_mask", "winding_numbers", "raster_hierarchy",
@@ -65,7 +66,7 @@ __all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_con
            "PrintPlan", "forked_pool", "plan", "layer_bounds", "settings_dict", "setting_names", "Extrusion", "Infill", "Skins",
            "Motion", "Cooling", "Adhesion", "Machine", "Raster", "Walls", "Supports", "PIXEL", "SUPPORTS",
            "support_masks", "support_paths", "layer_skins", "GROUPS", "SEAMS", "Bridge", "LayerOverhangs",
-           "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS"]
+           "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS", "outline_key", "same_outline", "same_point"]
 
 
 __getattr__, __dir__ = attach(__name__, _WHERE, globals())

@@ -197,17 +197,37 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     `z_tops` are the tops of these layers. The nozzle is carried from one layer to the
     next within each run of `_RUN` layers (and from `first`) and starts afresh at each run,
     so the paths do not depend on how runs are grouped into calls. Each layer is rasterised
-    once, when the first layer that reads it comes, and dropped when the last has. Everything
-    comes as arguments: a pool's worker needs no state from the parent.
+    once, when the first layer that reads it comes, and dropped when the last has. A layer of a
+    prismatic stretch takes the toolpaths of the layer two below when all they depend on is
+    the same (`slicelab.toolpath.repeats`), within a run of layers. Everything comes as
+    arguments: a pool's worker needs no state from the parent.
     """
     from .overhangs import EDGE_MARGIN, layer_overhangs, mark_overhangs
     from .paths import layer_paths
     from .perimeters import perimeter_band
     from .skins import internal_bridge, layer_skins
     from .raster import layer_mask, rasterize
+    from .repeats import outline_key, same_outline, same_point
     from .simplify import simplify_paths
     from .skirt import skirt_loops, with_skirt
     sections = window
+    # Layers whose toolpaths the layer two above may take (gyroid infill changes with height).
+    # Outlines are compared only where the number of segments and the area say they may be the same
+    # (a curved part's layers never are).
+    rough = {j: (len(sec.segments), _segments_area(sec.segments)) for j, sec in sections.items()} \
+        if s.infill_pattern != "gyroid" or s.infill_density == 0 else {}
+    maybe = {j for j in rough if j - 1 in rough and rough[j][0] == rough[j - 1][0]
+             and abs(rough[j][1] - rough[j - 1][1]) <= 1e-9 * max(1.0, abs(rough[j][1]))}
+    keys = {j: outline_key(sections[j]) for j in sorted(maybe | {j - 1 for j in maybe})}
+    same_below = {j: same_outline(keys[j], keys[j - 1]) for j in maybe}
+
+    def steady(k):
+        """Whether layer k and every layer its skins and overhangs read (all in the part) have one
+        outline: it has no skin, no overhang and no bridge."""
+        lo, hi = k - s.bottom_layers - 1, k + s.top_layers
+        return k > 0 and lo >= 0 and hi < n and all(same_below.get(j, False) for j in range(lo + 1, hi + 1))
+
+    memo = {}  # parity -> (outline, start, seam below, toolpaths, areas, overhangs) of a steady layer
     band = perimeter_band(s.line_width, s.n_perimeters, s.infill_overlap, s.pixel_size)
     edge_band = s.n_perimeters * s.line_width + EDGE_MARGIN if s.dont_support_bridges else None
     rasters, masks = {}, {}
@@ -233,9 +253,25 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     for k in range(first, stop):  # over layers
         if k == first or k % _RUN == 0:  # a run starts: the nozzle, and the seam below (aligned seams)
             pos = seam = None
-        reach(k)
-        solid, top = layer_skins(k, masks, s.skins, s.line_width)
+            memo.clear()
         parity = k % 2
+        still = steady(k)
+        if still and parity in memo:
+            key, at, below, lp, areas, held = memo[parity]
+            if same_outline(key, keys[k]) and same_point(at, pos) and same_point(below, seam):
+                # The layer two below again: the same toolpaths, at this height.
+                outer = [q for kind, q, _ in lp.rows({"external"})]
+                seam = outer[0][0] if outer else seam
+                items = list(lp.ordered())
+                pos = items[-1][1][-1] if items else pos
+                below_solid = None
+                lp = replace(lp, z=float(z_tops[k - first]), perimeters=None)
+                lp.extruded_area()
+                out.append((k, lp, areas, held, ()))
+                continue
+        at, below = pos, seam
+        reach(k)  # (a layer that took the toolpaths below needs no raster of its own unless a neighbour reads it)
+        solid, top = layer_skins(k, masks, s.skins, s.line_width)
         solid_angle = (s.infill_angle + 90.0 * parity) if s.solid_angle is None else s.solid_angle
         ov = None
         if k > 0 and masks[k] is not None:  # the first layer lies on the bed
@@ -273,6 +309,8 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
         where = ov.where if ov is not None and ov.where is not None else (np.nan, np.nan)
         held = (ov.overhang_area, ov.mid_air, len(ov.bridges), *where, ov.angle) if ov is not None \
             else (0, 0, 0, np.nan, np.nan, 0.0)
+        if still and not (ov is not None and len(ov.unheld)):
+            memo[parity] = (keys[k], at, below, replace(lp, perimeters=None), areas, held)
         lp = replace(lp, z=float(z_tops[k - first]), perimeters=None)
         lp.extruded_area()  # summed here, on all cores: the sums travel with the layer (its cached state)
         out.append((k, lp, areas, held, ov.unheld if ov is not None else ()))
@@ -280,6 +318,12 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     texts = [None] * len(out) if layer_text is None else layer_text(first, layers, heights)
     drawings = [None] * len(out) if layer_drawing is None else layer_drawing(layers, extent)
     return [(*r, t, d) for r, t, d in zip(out, texts, drawings)]
+
+
+def _segments_area(segments: np.ndarray) -> float:
+    """The signed area (mm^2) the segments (m, 2, 2) of a section's loops enclose (shoelace)."""
+    a, b = segments[:, 0], segments[:, 1]
+    return 0.5 * float(np.sum(a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1])) if len(segments) else 0.0
 
 
 def _areas(lp, raster, solid, s: PrintSettings) -> tuple[float, float, float, float]:
@@ -500,15 +544,31 @@ def _layer_costs(sections: list, s: PrintSettings) -> tuple[np.ndarray, np.ndarr
     return length, skin
 
 
+#: A layer of a prismatic stretch takes the toolpaths of the layer two below (`_run_chunk`): its
+#: cost against a layer planned afresh (the block's, the bridge's: rasters of neighbours, G-code text).
+_REPEAT_COST = 0.2
+
+
 def _costliest_first(chunks: list, sections: list, s: PrintSettings) -> list:
     """The runs of layers in the order to hand them out: the costliest first, so that no worker
     is left with a big one at the end while the others idle (longest processing time first).
 
     A layer's cost is taken as its boundary's length, as pixels are held only along the
-    boundaries, plus `_SKIN_COST` times its skin's area (`_layer_costs`).
+    boundaries, plus `_SKIN_COST` times its skin's area (`_layer_costs`), times `_REPEAT_COST`
+    where it and every layer its skins read have as many segments and the same area (it likely
+    repeats the layer two below).
     """
     length, skin = _layer_costs(sections, s)
-    cost = np.concatenate([[0.0], np.cumsum(length + _SKIN_COST * skin)])
+    rough = [(len(sec.segments), _segments_area(sec.segments)) for sec in sections]  # over layers
+    alike = np.array([False] + [a[0] == b[0] and abs(a[1] - b[1]) <= 1e-9 * max(1.0, abs(a[1]))
+                                for a, b in zip(rough[1:], rough[:-1])])  # over layers
+    n, below, above = len(sections), s.bottom_layers, s.top_layers
+    ends = np.concatenate([[0], np.cumsum(~alike)])  # layers unlike the one below, up to each
+    k = np.arange(n)
+    lo, hi = np.clip(k - below, 0, n), np.clip(k + above + 1, 0, n)
+    repeats = (k - below - 1 >= 0) & (k + above < n) & (ends[hi] - ends[lo] == 0)
+    cost = length + _SKIN_COST * skin
+    cost = np.concatenate([[0.0], np.cumsum(np.where(repeats, _REPEAT_COST * cost, cost))])
     return sorted(chunks, key=lambda c: cost[c[1]] - cost[c[0]], reverse=True)
 
 
