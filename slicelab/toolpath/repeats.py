@@ -9,7 +9,10 @@ outlines of every layer its skins and overhangs read (so it has neither), the
 nozzle's start and the seam below. Sections of a wall made of triangles are
 cut where the plane meets each facet's diagonal, at another place on every
 layer: an outline is its loops with the vertices in line with their neighbours
-left out, each from its lowest vertex.
+left out, each from its lowest vertex. The toolpaths taken are those planning the
+layer afresh gives, to a float's rounding: where the simplification of a ring
+ties (a small round hole), a layer planned afresh may keep another vertex, as
+good within the G-code resolution.
 
 See Also
 --------
