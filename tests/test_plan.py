@@ -354,7 +354,7 @@ def test_layers_that_repeat_take_the_toolpaths_two_below(part, tmp_path, monkeyp
     reused = plan(mesh, s, workers=1)  # (in this process: its layer_paths calls are counted)
     n_reused = len(reused.layers) - len(computed)
     write_gcode(plan(mesh, s, workers=2), tmp_path / "reused.gcode")  # the pool's workers reuse alike
-    monkeypatch.setattr(repeats, "same_outline", lambda a, b: False)  # every layer planned afresh
+    monkeypatch.setattr(repeats, "same_outline", lambda *args: False)  # every layer planned afresh
     computed.clear()
     fresh = plan(mesh, s, workers=1)
     write_gcode(fresh, tmp_path / "fresh.gcode")
@@ -363,6 +363,62 @@ def test_layers_that_repeat_take_the_toolpaths_two_below(part, tmp_path, monkeyp
     assert (tmp_path / "reused.gcode").read_bytes() == (tmp_path / "fresh.gcode").read_bytes()
     assert [lp.kinds() for lp in reused.layers] == [lp.kinds() for lp in fresh.layers]
     assert np.allclose(reused.areas, fresh.areas) and np.array_equal(reused.overhangs, fresh.overhangs, equal_nan=True)
+
+
+def test_layers_of_a_prism_written_in_float32_far_from_the_origin_repeat(tmp_path, monkeypatch):
+    # An STL holds float32: the cube with a hole 500 mm out has walls that lean by the coordinates'
+    # rounding (layers differ by micrometre thousandths). Its layers are still taken from those
+    # two below (outlines within the file's float32 rounding), and they print what every layer planned
+    # afresh prints: the same rows, each perimeter within twice the G-code resolution of the fresh
+    # one (a ring's simplification may keep other vertices), filling of each kind along the same
+    # direction and about as long (a start a rounding away may link its zigzags otherwise), about as
+    # many G-code lines and the same filament within a percent, read back.
+    import slicelab.toolpath.paths as paths
+    import slicelab.toolpath.repeats as repeats
+    from slicelab.mesh import default_tolerance
+    exact = cube_with_hole(size=12.0, radius=3.0).triangles + [500.3, 300.7, 0.1]
+    exact[..., 0] += 3e-5 * exact[..., 2] / 12  # half a float32 step at the top: rounded up or down
+    slicelab.save(slicelab.Mesh(exact), tmp_path / "far.stl")
+    mesh = slicelab.load(tmp_path / "far.stl")
+    top, bottom = mesh.triangles[..., 2] > 6, mesh.triangles[..., 2] < 6
+    xs = {round(float(x), 3): set() for x in mesh.triangles[..., 0][bottom]}
+    for x in mesh.triangles[..., 0][top]:
+        xs.setdefault(round(float(x), 3), set()).add(float(x))
+    lean = np.abs(mesh.triangles - exact).max()
+    assert 0 < lean < default_tolerance(mesh)  # rounded, within the tolerance the layers are compared to
+    walls = {x for x in mesh.triangles[..., 0][top]} - {x for x in mesh.triangles[..., 0][bottom]}
+    assert walls  # some walls lean: their tops are not above their bottoms
+    s = PrintSettings(pixel_size=0.1)
+    computed = []
+    real = paths.layer_paths
+    monkeypatch.setattr(paths, "layer_paths", lambda *a, **k: computed.append(1) or real(*a, **k))
+    reused = plan(mesh, s, workers=1)
+    assert len(reused.layers) - len(computed) >= 0.5 * len(reused.layers)
+    monkeypatch.setattr(repeats, "same_outline", lambda *args: False)
+    fresh = plan(mesh, s, workers=1)
+    from slicelab.toolpath.repeats import _within
+    for a, b in zip(reused.layers, fresh.layers):  # over layers
+        assert a.kinds() == b.kinds()
+        filling = {}
+        for kind, p, q in zip(a.kinds(), a.paths, b.paths):  # over rows
+            if kind in ("external", "internal", "hole"):
+                assert _within(p, q, 0.025) and _within(q, p, 0.025), kind
+            else:
+                filling.setdefault(kind, ([], []))
+                filling[kind][0].append(np.diff(p, axis=0))
+                filling[kind][1].append(np.diff(q, axis=0))
+        for kind, (p, q) in filling.items():  # over filling kinds: direction and length
+            (lp, ap), (lq, aq) = ((np.hypot(*d.T), np.degrees(np.arctan2(d[:, 1], d[:, 0])) % 180)
+                                  for d in (np.concatenate(p), np.concatenate(q)))
+            assert np.median(ap[lp > 1]) == pytest.approx(np.median(aq[lq > 1]), abs=1), kind
+            assert lp.sum() == pytest.approx(lq.sum(), rel=0.1), kind
+    texts = []
+    for name, pp in (("reused", reused), ("fresh", fresh)):
+        write_gcode(pp, tmp_path / f"{name}.gcode")
+        texts.append((tmp_path / f"{name}.gcode").read_text())
+    assert abs(len(texts[0].splitlines()) - len(texts[1].splitlines())) <= 0.01 * len(texts[1].splitlines())
+    filament = [float(t.split("; filament used [mm] = ")[1].split()[0]) for t in texts]
+    assert filament[0] == pytest.approx(filament[1], rel=0.01)
 
 
 def test_cli_slice(tmp_path, data_dir):

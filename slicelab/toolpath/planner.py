@@ -188,7 +188,7 @@ _GROUP = 5  # runs per call at most: a worker's call holds the rasters of its la
 
 
 def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, s: PrintSettings,
-               layer_text=None, heights=None, layer_drawing=None, extent=None):
+               layer_text=None, heights=None, layer_drawing=None, extent=None, repeat_tolerance: float = 1e-9):
     """Toolpaths of layers first..stop-1 of n (and, given `layer_text` and `layer_drawing`, their
     text and drawings: see `plan`).
 
@@ -199,27 +199,26 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     so the paths do not depend on how runs are grouped into calls. Each layer is rasterised
     once, when the first layer that reads it comes, and dropped when the last has. A layer of a
     prismatic stretch takes the toolpaths of the layer two below when all they depend on is
-    the same (`slicelab.toolpath.repeats`), within a run of layers. Everything comes as
-    arguments: a pool's worker needs no state from the parent.
+    the same (`slicelab.toolpath.repeats`; outlines within `repeat_tolerance` mm), within a run
+    of layers. Everything comes as arguments: a pool's worker needs no state from the parent.
     """
     from .overhangs import EDGE_MARGIN, layer_overhangs, mark_overhangs
     from .paths import layer_paths
     from .perimeters import perimeter_band
     from .skins import internal_bridge, layer_skins
     from .raster import layer_mask, rasterize
-    from .repeats import outline_key, same_outline, same_point
+    from .repeats import may_repeat, outline_key, outline_size, same_outline, same_point
     from .simplify import simplify_paths
     from .skirt import skirt_loops, with_skirt
     sections = window
     # Layers whose toolpaths the layer two above may take (gyroid infill changes with height).
-    # Outlines are compared only where the number of segments and the area say they may be the same
-    # (a curved part's layers never are).
-    rough = {j: (len(sec.segments), _segments_area(sec.segments)) for j, sec in sections.items()} \
+    # Outlines are compared only where the areas say they may be the same (a curved part's never are).
+    tol = float(repeat_tolerance)
+    size = {j: outline_size(sec) for j, sec in sections.items()} \
         if s.infill_pattern != "gyroid" or s.infill_density == 0 else {}
-    maybe = {j for j in rough if j - 1 in rough and rough[j][0] == rough[j - 1][0]
-             and abs(rough[j][1] - rough[j - 1][1]) <= 1e-9 * max(1.0, abs(rough[j][1]))}
-    keys = {j: outline_key(sections[j]) for j in sorted(maybe | {j - 1 for j in maybe})}
-    same_below = {j: same_outline(keys[j], keys[j - 1]) for j in maybe}
+    maybe = {j for j in size if j - 1 in size and may_repeat(size[j], size[j - 1], tol)}
+    keys = {j: outline_key(sections[j], tol) for j in sorted(maybe | {j - 1 for j in maybe})}
+    same_below = {j: same_outline(keys[j], keys[j - 1], tol) for j in maybe}
 
     def steady(k):
         """Whether layer k and every layer its skins and overhangs read (all in the part) have one
@@ -258,7 +257,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
         still = steady(k)
         if still and parity in memo:
             key, at, below, lp, areas, held = memo[parity]
-            if same_outline(key, keys[k]) and same_point(at, pos) and same_point(below, seam):
+            if same_outline(key, keys[k], tol) and same_point(at, pos, tol) and same_point(below, seam, tol):
                 # The layer two below again: the same toolpaths, at this height.
                 outer = [q for kind, q, _ in lp.rows({"external"})]
                 seam = outer[0][0] if outer else seam
@@ -318,12 +317,6 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     texts = [None] * len(out) if layer_text is None else layer_text(first, layers, heights)
     drawings = [None] * len(out) if layer_drawing is None else layer_drawing(layers, extent)
     return [(*r, t, d) for r, t, d in zip(out, texts, drawings)]
-
-
-def _segments_area(segments: np.ndarray) -> float:
-    """The signed area (mm^2) the segments (m, 2, 2) of a section's loops enclose (shoelace)."""
-    a, b = segments[:, 0], segments[:, 1]
-    return 0.5 * float(np.sum(a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1])) if len(segments) else 0.0
 
 
 def _areas(lp, raster, solid, s: PrintSettings) -> tuple[float, float, float, float]:
@@ -439,11 +432,15 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     text = None if layer_text is None or s.support != "off" else partial(layer_text, settings=s, offset=offset)
     drawing = None if s.support != "off" else layer_drawing
     extent = _extent(lo[:2], hi[:2], sections[0], s)
+    # Layers of a prism differ by the float32 rounding of the file's coordinates (walls lean by it).
+    from ..mesh.repairs import default_tolerance
+    tol = default_tolerance(mesh)
 
     def job(a, b):
         """The arguments of run a..b-1: its layers and the neighbours its skins look at."""
         lo, hi = max(0, a - s.bottom_layers - 1), min(n, b + s.top_layers)  # (the skins of a - 1 too)
-        return a, b, n, {j: sections[j] for j in range(lo, hi)}, z_tops[a:b], s, text, heights[a:b], drawing, extent
+        return (a, b, n, {j: sections[j] for j in range(lo, hi)}, z_tops[a:b], s, text, heights[a:b], drawing,
+                extent, tol)
 
     results = []
     # Fixed runs of layers, whatever the number of workers: a run carries the nozzle from
@@ -466,7 +463,7 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
         bar = _bar(n, progress)
         with forked_pool(workers) as pool:
             futures = {pool.submit(_run_chunk, *job(a, b)): (a, b)
-                       for a, b in _costliest_first(chunks, sections, s)}
+                       for a, b in _costliest_first(chunks, sections, s, tol)}
             for fut in as_completed(futures):
                 results += fut.result()
                 a, b = futures[fut]
@@ -549,19 +546,19 @@ def _layer_costs(sections: list, s: PrintSettings) -> tuple[np.ndarray, np.ndarr
 _REPEAT_COST = 0.2
 
 
-def _costliest_first(chunks: list, sections: list, s: PrintSettings) -> list:
+def _costliest_first(chunks: list, sections: list, s: PrintSettings, tolerance: float = 1e-9) -> list:
     """The runs of layers in the order to hand them out: the costliest first, so that no worker
     is left with a big one at the end while the others idle (longest processing time first).
 
     A layer's cost is taken as its boundary's length, as pixels are held only along the
     boundaries, plus `_SKIN_COST` times its skin's area (`_layer_costs`), times `_REPEAT_COST`
-    where it and every layer its skins read have as many segments and the same area (it likely
-    repeats the layer two below).
+    where it and every layer its skins read have the same area within `tolerance` (it likely
+    repeats the layer two below: `slicelab.toolpath.repeats.may_repeat`).
     """
+    from .repeats import may_repeat, outline_size
     length, skin = _layer_costs(sections, s)
-    rough = [(len(sec.segments), _segments_area(sec.segments)) for sec in sections]  # over layers
-    alike = np.array([False] + [a[0] == b[0] and abs(a[1] - b[1]) <= 1e-9 * max(1.0, abs(a[1]))
-                                for a, b in zip(rough[1:], rough[:-1])])  # over layers
+    size = [outline_size(sec) for sec in sections]  # over layers
+    alike = np.array([False] + [may_repeat(a, b, tolerance) for a, b in zip(size[1:], size[:-1])])  # over layers
     n, below, above = len(sections), s.bottom_layers, s.top_layers
     ends = np.concatenate([[0], np.cumsum(~alike)])  # layers unlike the one below, up to each
     k = np.arange(n)

@@ -9,10 +9,14 @@ outlines of every layer its skins and overhangs read (so it has neither), the
 nozzle's start and the seam below. Sections of a wall made of triangles are
 cut where the plane meets each facet's diagonal, at another place on every
 layer: an outline is its loops with the vertices in line with their neighbours
-left out, each from its lowest vertex. The toolpaths taken are those planning the
-layer afresh gives, to a float's rounding: where the simplification of a ring
-ties (a small round hole), a layer planned afresh may keep another vertex, as
-good within the G-code resolution.
+left out, each from its lowest vertex. An STL file holds float32 coordinates: its
+walls lean by their rounding, and two layers of a prism differ by some
+micrometres' thousandths, so outlines within the mesh's float32 rounding
+(`slicelab.mesh.default_tolerance`: 8 units in the last place of its largest
+coordinate, 6e-5 mm for a part 100 mm from the origin) are the same. The
+toolpaths taken are those planning the layer afresh gives, to that rounding:
+where the simplification of a ring ties (a small round hole), a layer planned
+afresh may keep another vertex, as good within the G-code resolution.
 
 See Also
 --------
@@ -22,27 +26,49 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["outline_key", "same_outline", "same_point"]
-
-#: Outlines within this distance (mm) of each other are the same: float rounding of the cut is
-#: some 1e-14 mm on a part of a metre, a real step of the surface is not below a nanometre.
-TOLERANCE = 1e-9
+__all__ = ["outline_size", "may_repeat", "outline_key", "same_outline", "same_point"]
 
 
-def outline_key(section) -> tuple | None:
-    """A layer's outline: its loops without the vertices in line with their neighbours, each
-    from its lowest (then leftmost) vertex, in the order of those vertices; None for a section
-    with open chains (not compared).
+def outline_size(section) -> tuple[float, float]:
+    """The area (mm^2) a section's segments enclose and their length (mm): two layers whose outlines
+    are the same within a tolerance have these the same within it (`may_repeat`).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> sq = np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float)
+    >>> outline_size(SimpleNamespace(segments=np.stack([sq, np.roll(sq, -1, axis=0)], axis=1)))
+    (4.0, 8.0)
+    """
+    seg = np.asarray(section.segments, np.float64).reshape(-1, 2, 2)
+    if not len(seg):
+        return 0.0, 0.0
+    a, b = seg[:, 0], seg[:, 1]
+    area = 0.5 * float(np.sum(a[:, 0] * b[:, 1] - b[:, 0] * a[:, 1]))  # the shoelace, segment by segment
+    return area, float(np.hypot(*(b - a).T).sum())
+
+
+def may_repeat(a: tuple, b: tuple, tolerance: float) -> bool:
+    """Whether two layers' `outline_size` allow their outlines to be the same within `tolerance` mm
+    (an outline moved by t changes the area by at most t times its length)."""
+    return abs(a[0] - b[0]) <= 2 * tolerance * max(a[1], b[1]) + 1e-12
+
+
+def outline_key(section, tolerance: float) -> tuple | None:
+    """A layer's outline: its loops without the vertices within `tolerance` (mm) of the line
+    through their neighbours, each from its lowest (then leftmost) vertex, in the order of those
+    vertices; None for a section with open chains (not compared).
 
     Examples
     --------
     >>> from types import SimpleNamespace
     >>> a = SimpleNamespace(open_chains=[], loops=[np.array([[0, 0], [2, 0], [2, 1], [2, 2], [0, 2]], float)])
-    >>> b = SimpleNamespace(open_chains=[], loops=[np.array([[2, 2], [0, 2], [0, 0], [1, 0], [2, 0]], float)])
-    >>> outline_key(a)[0].tolist()
+    >>> b = SimpleNamespace(open_chains=[], loops=[np.array([[2, 2], [0, 2], [0, 0], [1, 1e-7], [2, 0]], float)])
+    >>> outline_key(a, 1e-6)[0].tolist()
     [[0.0, 0.0], [2.0, 0.0], [2.0, 2.0], [0.0, 2.0]]
-    >>> same_outline(outline_key(a), outline_key(b))
-    True
+    >>> same_outline(outline_key(a, 1e-6), outline_key(b, 1e-6), 1e-6), same_outline(outline_key(a, 1e-9),
+    ...                                                                           outline_key(b, 1e-9), 1e-9)
+    (True, False)
     """
     if len(section.open_chains):
         return None
@@ -55,29 +81,66 @@ def outline_key(section) -> tuple | None:
             # The distance of each vertex from the chord of its neighbours (the chord's length
             # times it, to spare a division).
             twice = np.abs(off[:, 0] * chord[:, 1] - off[:, 1] * chord[:, 0])
-            keep = twice > TOLERANCE * np.hypot(chord[:, 0], chord[:, 1])
+            keep = twice > tolerance * np.hypot(chord[:, 0], chord[:, 1])
             r = r[keep] if np.count_nonzero(keep) >= 3 else r
-        k = int(np.lexsort((r[:, 0], r[:, 1]))[0])
+        # The lowest vertex, on a grid a hundred tolerances wide: two corners of a bottom edge whose
+        # heights differ by rounding alone do not swap from one layer to the next.
+        q = np.floor(r / (100 * tolerance)) if tolerance > 0 else r
+        k = int(np.lexsort((q[:, 0], q[:, 1]))[0])
         rings.append(np.roll(r, -k, axis=0))
-    rings.sort(key=lambda r: (round(float(r[0, 1]), 6), round(float(r[0, 0]), 6), len(r)))
+    rings.sort(key=lambda r: (round(float(r[0, 1]), 3), round(float(r[0, 0]), 3), len(r)))
     return tuple(rings)
 
 
-def same_outline(a, b) -> bool:
-    """Whether two outlines (`outline_key`) are the same within `TOLERANCE` (None is like nothing)."""
+def same_outline(a, b, tolerance: float) -> bool:
+    """Whether two outlines (`outline_key`) are the same within `tolerance` mm (None is like nothing).
+
+    Rings of as many vertices are compared vertex by vertex. A vertex nearly in line with its
+    neighbours may be kept on one layer and left out on the next: rings of a few hundred
+    vertices whose counts differ are compared as curves, every vertex of each within twice the
+    tolerance of the other's edges (its distance from the chord is below the tolerance on one
+    layer, and the layers differ by less than it).
+
+    Examples
+    --------
+    >>> sq = np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float)
+    >>> bent = np.array([[0, 0], [2, 0], [2, 1], [2, 2], [0, 2]]) + [[0, 0], [0, 0], [1.5e-6, 0], [0, 0], [0, 0]]
+    >>> same_outline((sq,), (bent,), 1e-6), same_outline((sq,), (bent,), 1e-7)
+    (True, False)
+    """
     if a is None or b is None or len(a) != len(b):
         return False
-    return all(p.shape == q.shape and bool(np.all(np.abs(p - q) <= TOLERANCE)) for p, q in zip(a, b))
+    for p, q in zip(a, b):  # over rings, a few
+        if p.shape == q.shape:
+            if not np.all(np.abs(p - q) <= tolerance):
+                return False
+        elif len(p) * len(q) > 250_000 or not (_within(p, q, 2 * tolerance) and _within(q, p, 2 * tolerance)):
+            return False
+    return True
 
 
-def same_point(a, b) -> bool:
-    """Whether two nozzle positions or seam points (None before any) are the same.
+def _within(points: np.ndarray, ring: np.ndarray, tolerance: float) -> bool:
+    """Whether every point lies within `tolerance` of the ring's edges (implicitly closed)."""
+    a, b = ring, np.roll(ring, -1, axis=0)
+    d = b - a
+    length2 = np.maximum(np.einsum("ij,ij->i", d, d), 1e-300)
+    rel = points[:, None, :] - a[None, :, :]  # (points, edges, 2)
+    t = np.clip(np.einsum("pej,ej->pe", rel, d) / length2, 0.0, 1.0)
+    gap = rel - t[..., None] * d[None, :, :]
+    return bool(np.all(np.einsum("pej,pej->pe", gap, gap).min(axis=1) <= tolerance * tolerance))
+
+
+def same_point(a, b, tolerance: float = 0.0) -> bool:
+    """Whether two nozzle positions or seam points (None before any) are the same within `tolerance` mm
+    (the layers they end differ by as much as their outlines).
 
     Examples
     --------
     >>> same_point(None, None), same_point(np.array([1.0, 2.0]), np.array([1.0, 2.0])), same_point(None, (0, 0))
     (True, True, False)
+    >>> same_point((1.0, 2.0), (1.0, 2.0 + 1e-7), 1e-6)
+    True
     """
     if a is None or b is None:
         return a is None and b is None
-    return bool(np.array_equal(np.asarray(a), np.asarray(b)))
+    return bool(np.all(np.abs(np.asarray(a, np.float64) - np.asarray(b, np.float64)) <= tolerance))
