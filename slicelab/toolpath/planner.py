@@ -207,26 +207,13 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     from .perimeters import perimeter_band
     from .skins import internal_bridge, layer_skins
     from .raster import layer_mask, rasterize
-    from .repeats import may_repeat, outline_key, outline_size, same_outline, same_point
+    from .repeats import Repeats
     from .simplify import simplify_paths
     from .skirt import skirt_loops, with_skirt
     sections = window
     # Layers whose toolpaths the layer two above may take (gyroid infill changes with height).
-    # Outlines are compared only where the areas say they may be the same (a curved part's never are).
-    tol = float(repeat_tolerance)
-    size = {j: outline_size(sec) for j, sec in sections.items()} \
-        if s.infill_pattern != "gyroid" or s.infill_density == 0 else {}
-    maybe = {j for j in size if j - 1 in size and may_repeat(size[j], size[j - 1], tol)}
-    keys = {j: outline_key(sections[j], tol) for j in sorted(maybe | {j - 1 for j in maybe})}
-    same_below = {j: same_outline(keys[j], keys[j - 1], tol) for j in maybe}
-
-    def steady(k):
-        """Whether layer k and every layer its skins and overhangs read (all in the part) have one
-        outline: it has no skin, no overhang and no bridge."""
-        lo, hi = k - s.bottom_layers - 1, k + s.top_layers
-        return k > 0 and lo >= 0 and hi < n and all(same_below.get(j, False) for j in range(lo + 1, hi + 1))
-
-    memo = {}  # parity -> (outline, start, seam below, toolpaths, areas, overhangs) of a steady layer
+    repeats = Repeats(sections, n, (s.bottom_layers + 1, s.top_layers), repeat_tolerance,
+                      enabled=s.infill_pattern != "gyroid" or s.infill_density == 0)
     band = perimeter_band(s.line_width, s.n_perimeters, s.infill_overlap, s.pixel_size)
     edge_band = s.n_perimeters * s.line_width + EDGE_MARGIN if s.dont_support_bridges else None
     rasters, masks = {}, {}
@@ -252,22 +239,20 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     for k in range(first, stop):  # over layers
         if k == first or k % _RUN == 0:  # a run starts: the nozzle, and the seam below (aligned seams)
             pos = seam = None
-            memo.clear()
+            repeats.clear()
         parity = k % 2
-        still = steady(k)
-        if still and parity in memo:
-            key, at, below, lp, areas, held = memo[parity]
-            if same_outline(key, keys[k], tol) and same_point(at, pos, tol) and same_point(below, seam, tol):
-                # The layer two below again: the same toolpaths, at this height.
-                outer = [q for kind, q, _ in lp.rows({"external"})]
-                seam = outer[0][0] if outer else seam
-                items = list(lp.ordered())
-                pos = items[-1][1][-1] if items else pos
-                below_solid = None
-                lp = replace(lp, z=float(z_tops[k - first]), perimeters=None)
-                lp.extruded_area()
-                out.append((k, lp, areas, held, ()))
-                continue
+        taken = repeats.take(k, pos, seam)
+        if taken is not None:  # the layer two below again: the same toolpaths, at this height
+            lp, areas, held = taken
+            outer = [q for kind, q, _ in lp.rows({"external"})]
+            seam = outer[0][0] if outer else seam
+            items = list(lp.ordered())
+            pos = items[-1][1][-1] if items else pos
+            below_solid = None
+            lp = replace(lp, z=float(z_tops[k - first]), perimeters=None)
+            lp.extruded_area()
+            out.append((k, lp, areas, held, ()))
+            continue
         at, below = pos, seam
         reach(k)  # (a layer that took the toolpaths below needs no raster of its own unless a neighbour reads it)
         solid, top = layer_skins(k, masks, s.skins, s.line_width)
@@ -308,8 +293,8 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
         where = ov.where if ov is not None and ov.where is not None else (np.nan, np.nan)
         held = (ov.overhang_area, ov.mid_air, len(ov.bridges), *where, ov.angle) if ov is not None \
             else (0, 0, 0, np.nan, np.nan, 0.0)
-        if still and not (ov is not None and len(ov.unheld)):
-            memo[parity] = (keys[k], at, below, replace(lp, perimeters=None), areas, held)
+        if not (ov is not None and len(ov.unheld)):
+            repeats.keep(k, at, below, (replace(lp, perimeters=None), areas, held))
         lp = replace(lp, z=float(z_tops[k - first]), perimeters=None)
         lp.extruded_area()  # summed here, on all cores: the sums travel with the layer (its cached state)
         out.append((k, lp, areas, held, ov.unheld if ov is not None else ()))

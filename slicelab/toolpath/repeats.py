@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["outline_size", "may_repeat", "outline_key", "same_outline", "same_point"]
+__all__ = ["outline_size", "may_repeat", "outline_key", "same_outline", "same_point", "Repeats"]
 
 
 def outline_size(section) -> tuple[float, float]:
@@ -144,3 +144,72 @@ def same_point(a, b, tolerance: float = 0.0) -> bool:
     if a is None or b is None:
         return a is None and b is None
     return bool(np.all(np.abs(np.asarray(a, np.float64) - np.asarray(b, np.float64)) <= tolerance))
+
+
+class Repeats:
+    """Which layers of a run of layers repeat, and the toolpaths they take (the planner's worker
+    keeps one for each run of layers it plans).
+
+    Parameters
+    ----------
+    sections : dict
+        Layer index -> section: the layers planned and every layer their skins read.
+    n : int
+        Layers in the part.
+    reach : (int, int)
+        Layers below and above whose outlines a layer's skins and overhangs read (the bottom
+        layers and one more, the top layers).
+    tolerance : float
+        mm (`slicelab.mesh.default_tolerance`).
+    enabled : bool
+        False where the toolpaths change with height (gyroid infill).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> sq = np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float)
+    >>> layer = SimpleNamespace(open_chains=[], loops=[sq], segments=np.stack([sq, np.roll(sq, -1, axis=0)], 1))
+    >>> r = Repeats({k: layer for k in range(10)}, 10, (2, 1), 1e-9)
+    >>> [r.steady(k) for k in range(10)]
+    [False, False, True, True, True, True, True, True, True, False]
+    >>> r.keep(3, None, None, "paths of layer 3")
+    >>> r.take(5, None, None), r.take(4, None, None), r.take(5, (0.0, 0.0), None)
+    ('paths of layer 3', None, None)
+    """
+
+    def __init__(self, sections: dict, n: int, reach: tuple, tolerance: float, enabled: bool = True):
+        self.n, self.below, self.above = n, int(reach[0]), int(reach[1])
+        self.tolerance = float(tolerance)
+        # Outlines are compared only where the areas say they may be the same (a curved part's
+        # layers never are).
+        size = {j: outline_size(sec) for j, sec in sections.items()} if enabled else {}
+        maybe = {j for j in size if j - 1 in size and may_repeat(size[j], size[j - 1], self.tolerance)}
+        self.keys = {j: outline_key(sections[j], self.tolerance) for j in sorted(maybe | {j - 1 for j in maybe})}
+        self.same_below = {j: same_outline(self.keys[j], self.keys[j - 1], self.tolerance) for j in maybe}
+        self.kept = {}  # parity -> (outline, start, seam below, what the layer took)
+
+    def clear(self) -> None:
+        """Forget the layers kept (a run of layers starts)."""
+        self.kept.clear()
+
+    def steady(self, k: int) -> bool:
+        """Whether layer k and every layer its skins and overhangs read (all in the part) have one
+        outline: it has no skin, no overhang and no bridge."""
+        lo, hi = k - self.below, k + self.above
+        return k > 0 and lo >= 0 and hi < self.n and all(self.same_below.get(j, False) for j in range(lo + 1, hi + 1))
+
+    def take(self, k: int, start, seam):
+        """What the steady layer two below kept, if layer k is steady and starts where it did with
+        the same seam below (within the tolerance); else None."""
+        got = self.kept.get(k % 2) if self.steady(k) else None
+        if got is None:
+            return None
+        key, at, below, value = got
+        t = self.tolerance
+        ok = same_outline(key, self.keys[k], t) and same_point(at, start, t) and same_point(below, seam, t)
+        return value if ok else None
+
+    def keep(self, k: int, start, seam, value) -> None:
+        """Keep what steady layer k made from `start` and `seam` for the layer two above."""
+        if self.steady(k):
+            self.kept[k % 2] = (self.keys[k], start, seam, value)
