@@ -243,6 +243,12 @@ def test_supports_hold_the_cap_of_a_mushroom(tmp_path):
     along = np.abs(seg[:, 1]) < 1e-9
     area = 16 * 16 - (4 + 2 * s.support_xy_gap) ** 2
     assert np.abs(seg[along, 0]).sum() == pytest.approx(area / (s.support_spacing + s.line_width), rel=0.2)
+    # Every layer of the column (those two apart draw the same lines): along x on even layers, y on odd.
+    for k in range(top + 1 - s.support_interface_layers):
+        d = np.concatenate([np.diff(q, axis=0) for kind, q in rows[k] if kind == "support" and
+                            not np.array_equal(q[0], q[-1])])
+        long = np.hypot(*d.T) > 4  # (the links between lines are a pitch, 2.9 mm, long)
+        assert np.all(np.abs(d[long, 1 if k % 2 == 0 else 0]) < 1e-9), k
     # A sheath: a loop along the cap's outline and one around the stem's gap (none when asked).
     from slicelab.geometry.polygons import signed_area
     assert sorted(abs(signed_area(q)) for q in loops) == [pytest.approx((4 + 2 * s.support_xy_gap) ** 2, rel=0.25),

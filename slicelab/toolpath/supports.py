@@ -200,8 +200,15 @@ def support_paths(sections, unheld, *, mode: str = "auto", line_width: float = 0
                                                      pixel=pixel)
     out = []
     min_area = 4 * line_width ** 2
+    made = {}  # parity -> (masks, rows) of the last layer with supports: a column repeats them
     for j, (sup, inter) in enumerate(zip(support, interface)):  # over layers
         rows = []
+        last = made.get(j % 2)
+        if sup is not None and last is not None and np.array_equal(last[0][0], sup) and (
+                (inter is None and last[0][1] is None) or
+                (inter is not None and last[0][1] is not None and np.array_equal(last[0][1], inter))):
+            out.append(list(last[1]))  # the same masks as two layers below: the same lines
+            continue
         if sup is not None:
             turn = angle + 90.0 * (j % 2)
             sparse = _polygons(sup & ~inter if inter is not None else sup, row0, col0, pixel, min_area)
@@ -213,5 +220,6 @@ def support_paths(sections, unheld, *, mode: str = "auto", line_width: float = 0
             if inter is not None:
                 rows += [("support_interface", q) for q in
                          rectilinear(_polygons(inter, row0, col0, pixel, min_area), interface_spacing, turn + 90.0)]
+            made[j % 2] = ((sup, inter), rows)
         out.append(rows)
     return out
