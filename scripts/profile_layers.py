@@ -174,11 +174,13 @@ def main() -> None:
     first = max(n // 4, s.bottom_layers + 1) if args.first is None else args.first
     stop = min(first + args.layers, n - s.top_layers - 20)
     runs = range(first, stop, 20)
+    from slicelab.mesh import default_tolerance
+    tol = default_tolerance(mesh)  # (layers that repeat are compared as the planner compares them)
 
     def plan_runs():
         for a in runs:
             window = {j: sections[j] for j in range(max(0, a - s.bottom_layers - 1), min(n, a + 20 + s.top_layers))}
-            planner._run_chunk(a, a + 20, n, window, bounds[a:a + 20, 1], s)
+            planner._run_chunk(a, a + 20, n, window, bounds[a:a + 20, 1], s, repeat_tolerance=tol)
 
     plan_runs()  # imports, compiled kernels
     layers = 20 * len(runs)
