@@ -353,6 +353,9 @@ def test_layers_that_repeat_take_the_toolpaths_two_below(part, tmp_path, monkeyp
     monkeypatch.setattr(paths, "layer_paths", lambda *a, **k: computed.append(k["layer_index"]) or real(*a, **k))
     reused = plan(mesh, s, workers=1)  # (in this process: its layer_paths calls are counted)
     n_reused = len(reused.layers) - len(computed)
+    taken = set(range(len(reused.layers))) - set(computed)
+    if part == "stepped block":  # and layers with the step within their skins' reach (layer 40 starts the column)
+        assert {43, 44, 45} <= taken and not {37, 38, 39, 40, 41, 42} & taken  # (those have skins, or no two below)
     write_gcode(plan(mesh, s, workers=2), tmp_path / "reused.gcode")  # the pool's workers reuse alike
     monkeypatch.setattr(repeats, "same_outline", lambda *args: False)  # every layer planned afresh
     computed.clear()

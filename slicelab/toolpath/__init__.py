@@ -53,7 +53,8 @@ _WHERE = {"PRINTERS": "printers", "FLAVORS": "printers", "resolve_settings": "pr
           "Extrusion": "settings", "Infill": "settings", "Skins": "settings", "Motion": "settings",
           "Cooling": "settings", "Adhesion": "settings", "Walls": "settings", "Supports": "settings", "PIXEL": "supports", "layer_skins": "skins", "SUPPORTS": "supports", "support_masks": "supports", "support_paths": "supports", "Machine": "settings", "Raster": "settings",
           "GROUPS": "settings", "outline_key": "repeats", "same_outline": "repeats", "same_point": "repeats",
-          "outline_size": "repeats", "may_repeat": "repeats", "Repeats": "repeats"}
+          "outline_size": "repeats", "may_repeat": "repeats", "Repeats": "repeats",
+          "same_mask": "repeats"}
 
 
 __all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_config", "render_gcode", "MARLIN_START", "MARLIN_END", "GridMask", "BlockMask", "bits_in_blocks", "open_mask", "LayerRaster", "RasterContours", "rasterize", "layer_mask", "winding_numbers", "raster_hierarchy",
@@ -67,7 +68,7 @@ __all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_con
            "PrintPlan", "forked_pool", "plan", "layer_bounds", "settings_dict", "setting_names", "Extrusion", "Infill", "Skins",
            "Motion", "Cooling", "Adhesion", "Machine", "Raster", "Walls", "Supports", "PIXEL", "SUPPORTS",
            "support_masks", "support_paths", "layer_skins", "GROUPS", "SEAMS", "Bridge", "LayerOverhangs",
-           "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS", "outline_key", "same_outline", "same_point", "outline_size", "may_repeat", "Repeats"]
+           "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS", "outline_key", "same_outline", "same_point", "outline_size", "may_repeat", "Repeats", "same_mask"]
 
 
 __getattr__, __dir__ = attach(__name__, _WHERE, globals())

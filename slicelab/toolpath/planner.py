@@ -274,16 +274,25 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
             skirt, brim = (simplify_paths(q, s.gcode_resolution) for q in (skirt, brim))
             if skirt or brim:
                 pos = (list(skirt) + list(brim))[-1][-1]
-        lp = layer_paths(sections[k], s.line_width, s.n_perimeters, s.infill_density, s.infill_angle,
-                         s.pixel_size, layer_index=k, rule=s.rule, overlap=s.infill_overlap, solid=solid,
-                         solid_angle=solid_angle, top=top, bridges=bridges, start=pos, raster=rasters[k],
-                         pattern=s.infill_pattern,
-                         resolution=s.gcode_resolution, seam=s.seam_position, seam_point=seam,
-                         external_first=s.external_perimeters_first)
+        # With no bridge and nothing unheld, a layer with the outline, skins, start and seam of the
+        # layer two below makes what it made (a step within the skins' reach above or below).
+        plain = k > 0 and not bridges and not (ov is not None and len(ov.unheld))
+        made = repeats.take_alike(k, pos, seam, (solid, top)) if plain else None
+        if made is not None:
+            lp, areas = made
+        else:
+            lp = layer_paths(sections[k], s.line_width, s.n_perimeters, s.infill_density, s.infill_angle,
+                             s.pixel_size, layer_index=k, rule=s.rule, overlap=s.infill_overlap, solid=solid,
+                             solid_angle=solid_angle, top=top, bridges=bridges, start=pos, raster=rasters[k],
+                             pattern=s.infill_pattern,
+                             resolution=s.gcode_resolution, seam=s.seam_position, seam_point=seam,
+                             external_first=s.external_perimeters_first)
+            areas = _areas(lp, rasters[k], solid, s)
+            if plain:
+                repeats.keep_alike(k, pos, seam, (solid, top), (replace(lp, perimeters=None), areas))
         outer = [q for kind, q, _ in lp.rows({"external"})]
         if outer:
             seam = outer[0][0]
-        areas = _areas(lp, rasters[k], solid, s)
         lp = with_skirt(lp, skirt, brim)
         if k > 0 and masks.get(k - 1) is not None:
             lp = mark_overhangs(lp, masks[k - 1], sections[k - 1], rule=s.rule)

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["outline_size", "may_repeat", "outline_key", "same_outline", "same_point", "Repeats"]
+__all__ = ["outline_size", "may_repeat", "outline_key", "same_outline", "same_point", "same_mask", "Repeats"]
 
 
 def outline_size(section) -> tuple[float, float]:
@@ -146,6 +146,28 @@ def same_point(a, b, tolerance: float = 0.0) -> bool:
     return bool(np.all(np.abs(np.asarray(a, np.float64) - np.asarray(b, np.float64)) <= tolerance))
 
 
+def same_mask(a, b) -> bool:
+    """Whether two masks (None, or `slicelab.toolpath.masks` masks) hold the same pixels, laid out
+    alike (the same window and blocks): two layers' skins compared.
+
+    Examples
+    --------
+    >>> from slicelab.toolpath.masks import GridMask
+    >>> m = GridMask(np.eye(3, dtype=bool), 0, 0, 0.1)
+    >>> same_mask(m, GridMask(np.eye(3, dtype=bool), 0, 0, 0.1)), same_mask(m, None), same_mask(None, None)
+    (True, False, True)
+    """
+    if a is None or b is None:
+        return a is None and b is None
+    if type(a) is not type(b) or (a.row0, a.col0, a.pixel_size) != (b.row0, b.col0, b.pixel_size):
+        return False
+    if hasattr(a, "bits"):  # blocks along the boundary
+        g, h = a.blocks, b.blocks
+        return (g.size, g.row0, g.col0) == (h.size, h.row0, h.col0) and tuple(a.shape) == tuple(b.shape) and \
+            np.array_equal(g.table, h.table) and np.array_equal(a.bits, b.bits)
+    return np.array_equal(a.mask, b.mask)
+
+
 class Repeats:
     """Which layers of a run of layers repeat, and the toolpaths they take (the planner's worker
     keeps one for each run of layers it plans).
@@ -182,15 +204,49 @@ class Repeats:
         self.tolerance = float(tolerance)
         # Outlines are compared only where the areas say they may be the same (a curved part's
         # layers never are).
-        size = {j: outline_size(sec) for j, sec in sections.items()} if enabled else {}
+        self.sections = sections
+        self.size = size = {j: outline_size(sec) for j, sec in sections.items()} if enabled else {}
         maybe = {j for j in size if j - 1 in size and may_repeat(size[j], size[j - 1], self.tolerance)}
         self.keys = {j: outline_key(sections[j], self.tolerance) for j in sorted(maybe | {j - 1 for j in maybe})}
         self.same_below = {j: same_outline(self.keys[j], self.keys[j - 1], self.tolerance) for j in maybe}
         self.kept = {}  # parity -> (outline, start, seam below, what the layer took)
+        self.alike = {}  # parity -> (outline, start, seam below, skins, what the layer made)
 
     def clear(self) -> None:
         """Forget the layers kept (a run of layers starts)."""
         self.kept.clear()
+        self.alike.clear()
+
+    def _outline(self, k: int, other: int):
+        """Layer k's outline where layer `other` may have the same (their areas say so), else None."""
+        if k not in self.keys:
+            if k not in self.size or other not in self.size or \
+                    not may_repeat(self.size[k], self.size[other], self.tolerance):
+                return None
+            self.keys[k] = outline_key(self.sections[k], self.tolerance)
+        return self.keys[k]
+
+    def take_alike(self, k: int, start, seam, skins: tuple):
+        """What layer k - 2 made (`keep_alike`) if layer k has its outline, start, seam below and
+        skins (masks compared pixel for pixel); else None. For layers whose neighbours differ
+        (a step within the skins' reach), once their skins are known."""
+        got = self.alike.get(k % 2)
+        if got is None:
+            return None
+        key, at, below, masks, value = got
+        t = self.tolerance
+        ok = same_point(at, start, t) and same_point(below, seam, t) and \
+            all(same_mask(a, b) for a, b in zip(masks, skins)) and same_outline(key, self._outline(k, k - 2), t)
+        return value if ok else None
+
+    def keep_alike(self, k: int, start, seam, skins: tuple, value) -> None:
+        """Keep what layer k made from `start`, `seam` and `skins` for the layer two above (when
+        its area may be this one's)."""
+        key = self._outline(k, k + 2)
+        if key is None:
+            self.alike.pop(k % 2, None)
+        else:
+            self.alike[k % 2] = (key, start, seam, skins, value)
 
     def steady(self, k: int) -> bool:
         """Whether layer k and every layer its skins and overhangs read (all in the part) have one
