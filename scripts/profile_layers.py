@@ -10,8 +10,9 @@ their own time and by cumulative time. No reference tool: this says where slicel
 `scripts/bench_slice.py` compares the whole command with PrusaSlicer. Cost: linear in the
 layers profiled.
 
-``--costs`` prints instead how each layer's time (planning the whole part in one process) follows the
-terms of the planner's estimate of a layer's cost, which orders the runs of layers handed to the
+``--costs`` prints instead how many layers the planner plans afresh and how many it takes from the
+layer two below (layers that repeat), and how each layer planned afresh's time (planning the whole
+part in one process) follows the terms of the planner's estimate of a layer's cost, which orders the runs of layers handed to the
 workers: the least-squares fit of the time to the boundary's length and the skin's area, the
 skin's weight it implies, and the costliest layers. ``--scale S`` scales the part to S mm first.
 
@@ -39,6 +40,7 @@ ROOT = Path(__file__).resolve().parents[1]
 
 #: (stage, where it is called from): each is timed where its caller looks it up.
 STAGES = [("rasterize", "slicelab.toolpath.planner"), ("layer_skins", "slicelab.toolpath.planner"),
+          ("open_mask", "slicelab.toolpath.skins"),
           ("layer_overhangs", "slicelab.toolpath.planner"), ("layer_paths", "slicelab.toolpath.planner"),
           ("distance_field", "slicelab.toolpath.perimeters"), ("level_rings", "slicelab.toolpath.perimeters"),
           ("_opened", "slicelab.toolpath.perimeters"), ("uncovered_blocks", "slicelab.toolpath.perimeters"),
@@ -125,16 +127,22 @@ def costs(mesh, s) -> None:
     lo, hi = mesh.bounds
     bounds = planner.layer_bounds(float(hi[2] - lo[2]), s.layer_height, s.first_layer_height)
     length, skin = planner._layer_costs(slice_layers(mesh, heights=lo[2] + bounds.mean(axis=1)), s)
-    ms = np.array([spent.get(k, 0.0) for k in range(len(length))])
+    # Layers that repeat take the toolpaths of the layer two below (no layer_paths call): only the
+    # layers planned afresh are fitted.
+    afresh = np.array(sorted(spent), dtype=np.int64)
+    n = len(length)
+    length, skin = length[afresh], skin[afresh]
+    ms = np.array([spent[k] for k in afresh.tolist()])
     x = np.c_[length, skin, np.ones(len(ms))]
     (a, b, c), *_ = np.linalg.lstsq(x, ms, rcond=None)
     r2 = 1 - float(((ms - x @ (a, b, c)) ** 2).sum() / max(((ms - ms.mean()) ** 2).sum(), 1e-300))
-    print(f"{len(ms)} layers, {ms.sum() / 1000:.2f} s in layer_paths, one process")
+    print(f"{n} layers: {len(afresh)} planned afresh, {n - len(afresh)} taken from the layer two below "
+          f"(layers that repeat); {ms.sum() / 1000:.2f} s in layer_paths, one process")
     print(f"ms per layer = {a:.5f} x boundary mm + {b:.6f} x skin mm^2 + {c:.2f} (R^2 {r2:.2f}); skin weight "
           f"b / a = {b / a:.2f} (the planner uses {planner._SKIN_COST})")
     print("costliest layers:   ms   boundary mm   skin mm^2")
-    for k in np.argsort(ms)[::-1][:8]:
-        print(f"  {k:>6} {ms[k]:10.2f} {length[k]:12.1f} {skin[k]:11.1f}")
+    for i in np.argsort(ms)[::-1][:8]:
+        print(f"  {afresh[i]:>6} {ms[i]:10.2f} {length[i]:12.1f} {skin[i]:11.1f}")
 
 
 def main() -> None:

@@ -515,13 +515,14 @@ def _with_supports(layers: list, sections: list, unheld: list, s: PrintSettings)
 _SKIN_COST = 0.4
 
 
-def _layer_costs(sections: list, s: PrintSettings) -> tuple[np.ndarray, np.ndarray]:
+def _layer_costs(sections: list, s: PrintSettings, size: list | None = None) -> tuple[np.ndarray, np.ndarray]:
     """Each layer's boundary length (mm) and skin area (mm^2): the area it has and a neighbour
-    within the skins' reach lacks (or lacks and it has), all of it on the first and last layers."""
+    within the skins' reach lacks (or lacks and it has), all of it on the first and last layers.
+    From each layer's `slicelab.toolpath.repeats.outline_size` (`size`, made here if not given)."""
+    from .repeats import outline_size
     n = len(sections)
-    length = np.array([float(np.hypot(*(sec.segments[:, 1] - sec.segments[:, 0]).T).sum())
-                       if len(sec.segments) else 0.0 for sec in sections])  # over layers
-    area = np.abs([sec.area for sec in sections])  # over layers
+    size = [outline_size(sec) for sec in sections] if size is None else size  # over layers
+    area, length = np.abs([a for a, _ in size]).reshape(n), np.array([b for _, b in size]).reshape(n)
     skin = np.zeros(n)
     below, above = s.bottom_layers, s.top_layers
     for d in range(1, min(n, max(below, above) + 1)):  # over the neighbours the skins read
@@ -550,8 +551,8 @@ def _costliest_first(chunks: list, sections: list, s: PrintSettings, tolerance: 
     repeats the layer two below: `slicelab.toolpath.repeats.may_repeat`).
     """
     from .repeats import may_repeat, outline_size
-    length, skin = _layer_costs(sections, s)
-    size = [outline_size(sec) for sec in sections]  # over layers
+    size = [outline_size(sec) for sec in sections]  # over layers: area and boundary length, once
+    length, skin = _layer_costs(sections, s, size)
     alike = np.array([False] + [may_repeat(a, b, tolerance) for a, b in zip(size[1:], size[:-1])])  # over layers
     n, below, above = len(sections), s.bottom_layers, s.top_layers
     ends = np.concatenate([[0], np.cumsum(~alike)])  # layers unlike the one below, up to each
