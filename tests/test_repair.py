@@ -28,17 +28,25 @@ def _noisy(mesh: Mesh, rng, scale=1e-17) -> Mesh:
     return Mesh(t)
 
 
+def _repaired(mesh: Mesh):
+    """A mesh that float noise leaves open (open edges, near-coincident vertices) checked, repaired
+    and checked again: (report before, repair, report after), the repair's result watertight."""
+    before = check(mesh)
+    assert before.n_open_edges > 0 and before.n_near_vertices > 0
+    fixed = repair(mesh)
+    after = check(fixed.mesh)
+    assert after.watertight
+    return before, fixed, after
+
+
 def test_float_noise_opens_edges_that_repair_closes(rng):
     clean = torus(30, 10, 48, 24)
     # The torus has few exact zeros; a box sitting on the origin planes has many.
     m = concat(clean, box((-60, -60, -5), (-40, -40, 5)), box((0, 0, 0), (5, 5, 5)))
     noisy = _noisy(m, rng)
-    before = check(noisy)
-    assert not before.watertight and before.n_open_edges > 0
-    assert before.n_near_vertices > 0
-    fixed = repair(noisy)
-    after = check(fixed.mesh)
-    assert after.watertight and after.n_misoriented_edges == 0
+    before, fixed, after = _repaired(noisy)
+    assert not before.watertight
+    assert after.n_misoriented_edges == 0
     assert after.n_near_vertices == 0
     assert fixed.report.n_snapped_vertices > 0
     assert after.volume == pytest.approx(check(m).volume, rel=1e-12)
@@ -60,11 +68,8 @@ def test_single_precision_copies_of_a_vertex_are_snapped_through_an_stl_file(tmp
     path = tmp_path / "ulp.stl"
     save(Mesh(t.astype(np.float64)), path)
     noisy = load(path)
-    before = check(noisy)
-    assert before.n_open_edges > 0 and before.n_near_vertices > 0
-    fixed = repair(noisy)
-    after = check(fixed.mesh)
-    assert after.watertight and after.n_near_vertices == 0
+    before, fixed, after = _repaired(noisy)
+    assert after.n_near_vertices == 0
     assert fixed.report.n_snapped_vertices > 0
     assert after.volume == pytest.approx(check(m).volume, rel=1e-5)
 
@@ -121,11 +126,8 @@ def test_real_cad_exports_repair_to_watertight(name):
     if not path.exists():
         pytest.skip("../shared/meshes is not present")
     m = load(path)
-    before = check(m)
-    assert before.n_open_edges > 0 and before.n_near_vertices > 0
-    fixed = repair(m)
-    after = check(fixed.mesh)
-    assert after.watertight and after.n_misoriented_edges == 0
+    before, fixed, after = _repaired(m)
+    assert after.n_misoriented_edges == 0
     assert after.volume == pytest.approx(before.volume, rel=1e-9)
 
 
