@@ -241,9 +241,9 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
             pos = seam = None
             repeats.clear()
         parity = k % 2
-        taken = repeats.take(k, pos, seam)
+        taken = repeats.take(k, pos, seam)  # (a steady layer: before its raster and skins)
         if taken is not None:  # the layer two below again: the same toolpaths, at this height
-            lp, areas, held = taken
+            lp, _, areas, held = taken
             outer = [q for kind, q, _ in lp.rows({"external"})]
             seam = outer[0][0] if outer else seam
             items = list(lp.ordered())
@@ -277,9 +277,9 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
         # With no bridge and nothing unheld, a layer with the outline, skins, start and seam of the
         # layer two below makes what it made (a step within the skins' reach above or below).
         plain = k > 0 and not bridges and not (ov is not None and len(ov.unheld))
-        made = repeats.take_alike(k, pos, seam, (solid, top)) if plain else None
+        made = repeats.take(k, pos, seam, (solid, top)) if plain else None
         if made is not None:
-            lp, areas = made
+            _, lp, areas, _ = made  # (its toolpaths before the layer below marked them)
         else:
             lp = layer_paths(sections[k], s.line_width, s.n_perimeters, s.infill_density, s.infill_angle,
                              s.pixel_size, layer_index=k, rule=s.rule, overlap=s.infill_overlap, solid=solid,
@@ -288,8 +288,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
                              resolution=s.gcode_resolution, seam=s.seam_position, seam_point=seam,
                              external_first=s.external_perimeters_first)
             areas = _areas(lp, rasters[k], solid, s)
-            if plain:
-                repeats.keep_alike(k, pos, seam, (solid, top), (replace(lp, perimeters=None), areas))
+        unmarked = replace(lp, perimeters=None)
         outer = [q for kind, q, _ in lp.rows({"external"})]
         if outer:
             seam = outer[0][0]
@@ -302,8 +301,8 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
         where = ov.where if ov is not None and ov.where is not None else (np.nan, np.nan)
         held = (ov.overhang_area, ov.mid_air, len(ov.bridges), *where, ov.angle) if ov is not None \
             else (0, 0, 0, np.nan, np.nan, 0.0)
-        if not (ov is not None and len(ov.unheld)):
-            repeats.keep(k, at, below, (replace(lp, perimeters=None), areas, held))
+        if plain:  # for the layer two above: the toolpaths as marked here and before marking
+            repeats.keep(k, at, below, (solid, top), (replace(lp, perimeters=None), unmarked, areas, held))
         lp = replace(lp, z=float(z_tops[k - first]), perimeters=None)
         lp.extruded_area()  # summed here, on all cores: the sums travel with the layer (its cached state)
         out.append((k, lp, areas, held, ov.unheld if ov is not None else ()))

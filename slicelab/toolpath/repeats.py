@@ -194,9 +194,9 @@ class Repeats:
     >>> r = Repeats({k: layer for k in range(10)}, 10, (2, 1), 1e-9)
     >>> [r.steady(k) for k in range(10)]
     [False, False, True, True, True, True, True, True, True, False]
-    >>> r.keep(3, None, None, "paths of layer 3")
-    >>> r.take(5, None, None), r.take(4, None, None), r.take(5, (0.0, 0.0), None)
-    ('paths of layer 3', None, None)
+    >>> r.keep(3, None, None, (None, None), "paths of layer 3")
+    >>> r.take(5, None, None), r.take(4, None, None), r.take(5, (0.0, 0.0), None), r.take(5, None, None, (None, None))
+    ('paths of layer 3', None, None, 'paths of layer 3')
     """
 
     def __init__(self, sections: dict, n: int, reach: tuple, tolerance: float, enabled: bool = True):
@@ -209,13 +209,11 @@ class Repeats:
         maybe = {j for j in size if j - 1 in size and may_repeat(size[j], size[j - 1], self.tolerance)}
         self.keys = {j: outline_key(sections[j], self.tolerance) for j in sorted(maybe | {j - 1 for j in maybe})}
         self.same_below = {j: same_outline(self.keys[j], self.keys[j - 1], self.tolerance) for j in maybe}
-        self.kept = {}  # parity -> (outline, start, seam below, what the layer took)
-        self.alike = {}  # parity -> (outline, start, seam below, skins, what the layer made)
+        self.kept = {}  # parity -> (outline, start, seam below, skins, steady, what the layer made)
 
     def clear(self) -> None:
         """Forget the layers kept (a run of layers starts)."""
         self.kept.clear()
-        self.alike.clear()
 
     def _outline(self, k: int, other: int):
         """Layer k's outline where layer `other` may have the same (their areas say so), else None."""
@@ -226,46 +224,42 @@ class Repeats:
             self.keys[k] = outline_key(self.sections[k], self.tolerance)
         return self.keys[k]
 
-    def take_alike(self, k: int, start, seam, skins: tuple):
-        """What layer k - 2 made (`keep_alike`) if layer k has its outline, start, seam below and
-        skins (masks compared pixel for pixel); else None. For layers whose neighbours differ
-        (a step within the skins' reach), once their skins are known."""
-        got = self.alike.get(k % 2)
-        if got is None:
-            return None
-        key, at, below, masks, value = got
-        t = self.tolerance
-        ok = same_point(at, start, t) and same_point(below, seam, t) and \
-            all(same_mask(a, b) for a, b in zip(masks, skins)) and same_outline(key, self._outline(k, k - 2), t)
-        return value if ok else None
-
-    def keep_alike(self, k: int, start, seam, skins: tuple, value) -> None:
-        """Keep what layer k made from `start`, `seam` and `skins` for the layer two above (when
-        its area may be this one's)."""
-        key = self._outline(k, k + 2)
-        if key is None:
-            self.alike.pop(k % 2, None)
-        else:
-            self.alike[k % 2] = (key, start, seam, skins, value)
-
     def steady(self, k: int) -> bool:
         """Whether layer k and every layer its skins and overhangs read (all in the part) have one
         outline: it has no skin, no overhang and no bridge."""
         lo, hi = k - self.below, k + self.above
         return k > 0 and lo >= 0 and hi < self.n and all(self.same_below.get(j, False) for j in range(lo + 1, hi + 1))
 
-    def take(self, k: int, start, seam):
-        """What the steady layer two below kept, if layer k is steady and starts where it did with
-        the same seam below (within the tolerance); else None."""
-        got = self.kept.get(k % 2) if self.steady(k) else None
+    def take(self, k: int, start, seam, skins: tuple | None = None):
+        """What layer k - 2 made (`keep`), if layer k has its outline, starts where it did and has
+        the same seam below (within the tolerance); else None.
+
+        Without `skins`, before anything of layer k is made: only a steady layer (`steady`) takes
+        what a steady layer made. With `skins` (masks, once layer k's are known), any layer whose
+        skins are those of layer k - 2, pixel for pixel, takes what it made (a step within reach).
+        """
+        got = self.kept.get(k % 2)
         if got is None:
             return None
-        key, at, below, value = got
+        key, at, below, masks, steady, value = got
+        if skins is None:
+            if not (steady and self.steady(k)):
+                return None
+            outline = self.keys[k]
+        elif all(same_mask(a, b) for a, b in zip(masks, skins)):
+            outline = self._outline(k, k - 2)
+        else:
+            return None
         t = self.tolerance
-        ok = same_outline(key, self.keys[k], t) and same_point(at, start, t) and same_point(below, seam, t)
+        ok = same_point(at, start, t) and same_point(below, seam, t) and same_outline(key, outline, t)
         return value if ok else None
 
-    def keep(self, k: int, start, seam, value) -> None:
-        """Keep what steady layer k made from `start` and `seam` for the layer two above."""
-        if self.steady(k):
-            self.kept[k % 2] = (self.keys[k], start, seam, value)
+    def keep(self, k: int, start, seam, skins: tuple, value) -> None:
+        """Keep what layer k made from `start`, `seam` and `skins` for the layer two above (when its
+        outline may be this one's)."""
+        steady = self.steady(k)
+        key = self.keys[k] if steady else self._outline(k, k + 2)
+        if key is None:
+            self.kept.pop(k % 2, None)
+        else:
+            self.kept[k % 2] = (key, start, seam, skins, steady, value)
