@@ -231,3 +231,23 @@ def test_a_shell_inside_another_bounds_material_only_under_evenodd(rule):
     assert counts["hole"][1] == counts["hole"][0]  # a hole's wall under both rules
     assert counts["inner"][1] == (0 if rule == "nonzero" else counts["inner"][0])
     assert len(segs) == counts["outer"][0] - counts["inner"][0] + counts["inner"][1]  # the outer box holds all
+
+
+@pytest.mark.parametrize("rule", ["nonzero", "evenodd"])
+def test_a_raster_drawn_on_the_neighbours_mask_is_the_raster_drawn_afresh(rule):
+    """The planner draws each neighbour's mask alone (`layer_mask`) and a layer's islands and bounding
+    edges on that mask: the same raster as drawn whole, and the mask is taken as it is."""
+    from slicelab.toolpath.raster import layer_mask
+    s = slicelab.section(concat(box((0, 0, 0), (20, 20, 2)), box((6, 6, 0), (14, 14, 2)),
+                                box((16, 2, 0), (18, 4, 2), inward=True), box((30, 0, 0), (33, 3, 2))),
+                         (0, 0, 1), (0, 0, 1))
+    mask = layer_mask(s, 0.2, rule=rule, band=1.2)
+    whole, on_mask = rasterize(s, 0.2, rule=rule, band=1.2), rasterize(s, 0.2, rule=rule, band=1.2, tile=mask)
+    assert on_mask.tiles[0] is mask
+    np.testing.assert_array_equal(on_mask.tiles[0].mask, whole.tiles[0].mask)
+    np.testing.assert_array_equal(on_mask.island_boxes, whole.island_boxes)
+    assert len(whole.island_boxes) == 2
+    for a, b in zip(on_mask.segments, whole.segments, strict=True):
+        np.testing.assert_array_equal(a, b)
+    empty = slicelab.section(box((0, 0, 5), (1, 1, 6)), (0, 0, 1), (0, 0, 1))  # (the plane misses it)
+    assert layer_mask(empty, 0.2) is None and rasterize(empty, 0.2, tile=None).tiles == ()

@@ -219,19 +219,16 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     rasters, masks = {}, {}
 
     def reach(k):
-        """Masks of the layers layer k's skins read, and of none below them; rasters of those this
-        call plans (its neighbours beyond are read only as masks)."""
+        """Masks of the layers layer k's skins read, and of none below them; the raster of layer k
+        (its islands and the edges that bound its material: only a layer planned needs them)."""
         for j in [j for j in masks if j < k - s.bottom_layers - 1]:  # over the few left behind
             del masks[j]
-            rasters.pop(j, None)
         for j in range(max(0, k - s.bottom_layers - 1), min(n, k + s.top_layers + 1)):  # the window
-            if j in masks:
-                continue
-            if first <= j < stop:
-                rasters[j] = rasterize(sections[j], s.pixel_size, rule=s.rule, band=band)
-                masks[j] = rasters[j].combined() if rasters[j].tiles else None
-            else:
+            if j not in masks:
                 masks[j] = layer_mask(sections[j], s.pixel_size, rule=s.rule, band=band)
+        if k not in rasters:
+            rasters.clear()
+            rasters[k] = rasterize(sections[k], s.pixel_size, rule=s.rule, band=band, tile=masks[k])
 
     out = []
     reach(first)  # (the skins of layer first - 1 read no further)
@@ -254,7 +251,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
             out.append((k, lp, areas, held, ()))
             continue
         at, below = pos, seam
-        reach(k)  # (a layer that took the toolpaths below needs no raster of its own unless a neighbour reads it)
+        reach(k)  # (a layer that took the toolpaths below needs no raster, only its mask if a neighbour reads it)
         solid, top = layer_skins(k, masks, s.skins, s.line_width)
         solid_angle = (s.infill_angle + 90.0 * parity) if s.solid_angle is None else s.solid_angle
         ov = None

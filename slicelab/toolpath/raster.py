@@ -360,7 +360,7 @@ def layer_mask(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margi
 
 
 def rasterize(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margin: int = 3,
-              band: float = BAND, block: int = BLOCK) -> LayerRaster:
+              band: float = BAND, block: int = BLOCK, tile=None) -> LayerRaster:
     """Rasterise a section's material on the world-anchored pixel grid.
 
     Parameters
@@ -378,6 +378,10 @@ def rasterize(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margin
         further inside or outside are held as a whole (`raster_blocks`).
     block : int, default `BLOCK`
         Block size (pixels); one block larger than the island holds it whole.
+    tile : BlockMask, optional
+        The section's mask as `layer_mask` gives it with these settings, taken
+        as it is instead of drawn again (the planner draws every layer's mask
+        for its neighbours' skins, and the rest only for the layers it plans).
 
     Returns
     -------
@@ -403,7 +407,8 @@ def rasterize(section, pixel_size: float = 0.2, *, rule: str = "nonzero", margin
     boxes = np.empty((n_islands, 4), np.int64)
     # One tile for the whole layer, however many islands: each stage of a tile (distance field,
     # level sets, openings) has a fixed cost, and blocks far from every boundary cost nothing.
-    tile = raster_blocks(loop_edges(loops), r0, c0, shape, p, rule=rule, band=band, size=block)
+    if tile is None:
+        tile = raster_blocks(loop_edges(loops), r0, c0, shape, p, rule=rule, band=band, size=block)
     seg_lists = []
     for g in range(n_islands):  # over islands: their boxes, and which of their edges bound material
         members = np.flatnonzero(group == g)
