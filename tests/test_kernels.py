@@ -63,6 +63,34 @@ def test_march_blocks_with_uniform_blocks_matches_the_assembled_grid():
         assert np.abs(r - (20 - level)).max() < 0.05
 
 
+@pytest.mark.parametrize("seed", range(4))
+def test_a_masks_contours_on_its_seamed_blocks_are_those_of_the_assembled_mask(seed):
+    # Random block tables whose full and empty blocks touch (edge to edge and at corners) with
+    # active blocks among them: marched on the few blocks `seamed` holds (full ones beside empty ones), the mask's contours are
+    # those of the whole assembled mask, ring for ring and point for point (and those `widen` gives).
+    b = 4
+    rng = np.random.default_rng(seed)
+    status = rng.integers(0, 3, (9, 11))  # 0 empty, 1 full, 2 active
+    table = np.where(status == 0, EMPTY, FULL)
+    table[status == 2] = np.arange(np.count_nonzero(status == 2))
+    g = BlockGrid(b, -2, 3, table)
+    bits = rng.random((np.count_nonzero(status == 2), b, b)) < 0.5
+    seamed, sb = g.seamed(bits, False, True)
+    wide, wb = g.widen(bits, False, True)
+    assert len(sb) < len(wb)
+    shape = ((table.shape[0] + 2) * b, (table.shape[1] + 2) * b)
+    whole = g.assemble(bits.view(np.uint8), np.uint8(0), np.uint8(1), (g.row0 - 1) * b, (g.col0 - 1) * b, shape)
+    ref = contours.march(whole.astype(np.float32), 0.5)
+    origin = np.array([(g.row0 - 1) * b, (g.col0 - 1) * b])
+    ours = contours.march_blocks(sb.astype(np.float32), 0.5, seamed, 0.0, 1.0)
+    assert len(ours) == len(ref) > 10
+    first = lambda r: (r[0, 0], r[0, 1])  # noqa: E731  (each ring starts at its lowest point)
+    for a, r in zip(sorted(ours, key=first), sorted((r + origin for r in ref), key=first), strict=True):
+        np.testing.assert_array_equal(a, r)
+    for a, w in zip(ours, contours.march_blocks(wb.astype(np.float32), 0.5, wide, 0.0, 1.0), strict=True):
+        np.testing.assert_array_equal(a, w)
+
+
 def test_closed_cycles_drops_open_chains_and_orders_rings_by_lowest_point():
     # Two cycles (keys 0->1->2->0 and 10->11->10) and an open chain 20->21->22.
     start = np.array([21, 1, 10, 2, 0, 11, 20])

@@ -165,7 +165,34 @@ class BlockGrid:
         box = np.ones((2 * reach + 1, 2 * reach + 1), np.uint8)
         hi = cv2.dilate(kind, box, borderType=cv2.BORDER_REPLICATE)
         lo = cv2.erode(kind, box, borderType=cv2.BORDER_REPLICATE)
-        active = (kind == 2) | (hi != kind) | (lo != kind)
+        return self._activated(data, empty, full, reach, t, kind, (kind == 2) | (hi != kind) | (lo != kind))
+
+    def seamed(self, data: np.ndarray, empty, full) -> tuple[BlockGrid, np.ndarray]:
+        """The grid with every full block beside an empty one (or at a corner with it) made active,
+        and the stack to match: every cell that a contour between the empty and the full value
+        crosses then has a corner in an active block, as `slicelab.geometry.contours.march_blocks`
+        needs (a few blocks, where `widen` would make every neighbour of an active block active too).
+
+        Examples
+        --------
+        The full block is held (outside the table is empty), beside the active block; the empty
+        blocks are not (`widen` would hold them, and the active block's neighbours):
+
+        >>> g = BlockGrid(1, 0, 0, np.array([[FULL, EMPTY, EMPTY, 0]]))
+        >>> h, data = g.seamed(np.zeros((1, 1, 1), bool), False, True)
+        >>> h.table.tolist(), data[:, 0, 0].tolist()
+        ([[-1, -1, -1, -1, -1, -1], [-1, 0, -1, -1, 1, -1], [-1, -1, -1, -1, -1, -1]], [True, False])
+        """
+        import cv2
+        t = _padded(self.table, 1)
+        kind = np.where(t >= 0, 2, np.where(t == FULL, 1, 0)).astype(np.uint8)
+        near_empty = cv2.dilate((kind == 0).view(np.uint8), np.ones((3, 3), np.uint8),
+                                borderType=cv2.BORDER_REPLICATE).view(bool)
+        return self._activated(data, empty, full, 1, t, kind, (kind == 2) | ((kind == 1) & near_empty))
+
+    def _activated(self, data, empty, full, reach: int, t, kind, active) -> tuple[BlockGrid, np.ndarray]:
+        """The grid of the table `t` (this grid's, padded by `reach` blocks) with the blocks `active`
+        held, and their stack (uniform blocks made active hold their value)."""
         grid = BlockGrid.from_status(self.size, self.row0 - reach, self.col0 - reach, active, (kind == 1) & ~active)
         n = len(self)
         ext = np.empty((n + 2,) + data.shape[1:], data.dtype)

@@ -168,8 +168,8 @@ def _mask_rings(mask) -> list[np.ndarray]:
     """Rings (mm, material on the left) half way between a mask's pixels and the pixels beside them."""
     p = mask.pixel_size
     if isinstance(mask, BlockMask):
-        # Uniform blocks beside blocks of another kind are held too: the contour may run along them.
-        g, bits = mask.blocks.widen(mask.bits, False, True)
+        # Full blocks beside empty ones are held too: the contour may run along their seam.
+        g, bits = mask.blocks.seamed(mask.bits, False, True)
         r0 = c0 = 0
         rings = march_blocks(bits.astype(np.float32), 0.5, g, 0.0, 1.0)
     else:
