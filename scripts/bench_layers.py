@@ -16,8 +16,8 @@ exponent fitted to time ~ radius^k says which.
 
 Skins: the same rings as a top skin, their whole area solid (filled with lines): the time of
 `layer_paths` and of the solid filling's gap fill in it, by radius. The lines grow with the area,
-which grows with the radius here; the gap fill works on the dense box of the solid region, which
-grows with its square.
+which grows with the radius here. The gap fill draws the lines' coverage over the box of the solid
+region, which grows with its square, and works on the gaps only in the blocks that hold them.
 
 The machine may be shared: timings are medians, and still noisy.
 
@@ -153,8 +153,8 @@ def skin_table(repeat: int) -> None:
             print(f"{radius:>10g}{1000 * times[-1]:>10.1f}{prev}{1000 * statistics.median(gaps):>10.1f}")
     k = np.polyfit(np.log(RADII), np.log(times), 1)[0]
     k_gaps = np.polyfit(np.log(RADII), np.log(gap_times), 1)[0]
-    print(f"fitted exponents: time ~ radius^{k:.2f}, the gap fill's ~ radius^{k_gaps:.2f} (it works on the dense "
-          "box of the solid region)")
+    print(f"fitted exponents: time ~ radius^{k:.2f}, the gap fill's ~ radius^{k_gaps:.2f} (coverage drawn over the "
+          "box of the solid region, gaps worked on in their blocks)")
 
 
 def pot_time(repeat: int) -> None:

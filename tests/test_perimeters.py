@@ -319,3 +319,34 @@ def test_thin_islands_are_counted_one_by_one_in_a_shared_tile():
     assert per.thin_walls == 1
     per = perimeters(section_of([square, wall, *ring]), 0.4, 2, pixel_size=P)
     assert per.thin_walls == 2
+
+
+def test_medial_fill_of_far_slivers_is_each_sliver_alone():
+    # Three 0.3 mm slivers at the corners of a 300 mm window (a box of 2.25 million pixels, as a
+    # wide ring's solid skin has): each gives its own centre line, 0.3 mm wide, as when alone; the
+    # long one crosses several blocks and comes out whole.
+    from slicelab.toolpath.gapfill import medial_fill
+    from slicelab.toolpath.masks import GridMask
+    p, w = 0.2, 0.4
+    mask = np.zeros((1500, 1500), bool)
+    slivers = [(slice(10, 12), slice(20, 120)), (slice(1400, 1402), slice(1300, 1340)),
+               (slice(700, 760), slice(5, 7))]  # rows x cols of pixels: 0.4 mm across (2 px)
+    for rows, cols in slivers:
+        mask[rows, cols] = True
+    lines, widths = medial_fill(GridMask(mask, -700, 300, p), mask, w, 0.5 * w)
+    alone = []
+    for rows, cols in slivers:
+        one = np.zeros_like(mask)
+        one[rows, cols] = True
+        alone.append(medial_fill(GridMask(one, -700, 300, p), one, w, 0.5 * w))
+    assert len(lines) == 3 == sum(len(a[0]) for a in alone)
+    key = lambda q: tuple(np.round(q[0], 9))  # noqa: E731
+    for got, want in zip(sorted(lines, key=key), sorted((a[0][0] for a in alone), key=key)):
+        np.testing.assert_array_equal(got, want)
+    length = sorted(float(np.hypot(*np.diff(q, axis=0).T).sum()) for q in lines)
+    np.testing.assert_allclose(length, [(40 - 2) * p, (60 - 2) * p, (100 - 2) * p], atol=2 * p)
+    for q in lines:  # each along its sliver's middle
+        horizontal = np.ptp(q[:, 0]) > np.ptp(q[:, 1])
+        across = q[:, 1] / p + 700 if horizontal else q[:, 0] / p - 300
+        assert np.ptp(across) <= 1
+    assert all(np.all((wd >= 0.5 * w - 1e-9) & (wd <= 1.5 * w)) for wd in widths)

@@ -28,6 +28,9 @@ from .masks import GridMask
 
 __all__ = ["disc", "medial_fill", "uncovered_blocks", "medial_fill_blocks"]
 
+#: Block size (pixels) `medial_fill` works in.
+_GAP_BLOCK = 32
+
 
 def disc(radius_px: float) -> np.ndarray:
     """OpenCV's elliptic structuring element of radius ``ceil(radius_px)`` (at least 1).
@@ -101,27 +104,21 @@ def medial_fill(grid: GridMask, uncovered: np.ndarray, w: float, min_width: floa
     >>> len(lines), round(float(np.hypot(*np.diff(lines[0], axis=0).T).sum()), 1), round(float(widths[0].max()), 3)
     (1, 2.2, 0.275)
     """
-    import cv2
-    p = grid.pixel_size
     rows, cols = np.nonzero(uncovered)
     if len(rows) == 0:
         return [], []
-    # Work in the box of the uncovered pixels only (usually a small part of the tile).
-    r0, c0 = rows.min() - 2, cols.min() - 2
-    sub = np.zeros((rows.max() - r0 + 3, cols.max() - c0 + 3), np.uint8)
-    sub[rows - r0, cols - c0] = 1
-    dist = cv2.distanceTransform(sub, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
-    threshold = _threshold(min_width, p)
-    seeds = dist >= threshold
-    if not seeds.any():
-        return [], []
-    _, lab = cv2.connectedComponents(sub, connectivity=8)
-    sub = _labelled(lab, lab[seeds])
-    # Thinning gives a one-pixel skeleton even across strips of even width (medial_axis does not).
-    d = cv2.distanceTransform(sub.astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
-    skel = thin(sub) & (d >= threshold - 1)
-    return _polylines(trace_skeleton(skel), lambda path: d[path[:, 0], path[:, 1]].astype(np.float64), p, w,
-                      min_width, grid.row0 + r0, grid.col0 + c0)
+    # Only the blocks that hold uncovered pixels are worked on (`medial_fill_blocks`, the same
+    # polylines): a few slivers along a wide ring have a box of millions of pixels.
+    b = _GAP_BLOCK
+    rows, cols = rows + grid.row0, cols + grid.col0
+    br, bc = rows // b, cols // b
+    b0r, b0c = int(br.min()), int(bc.min())
+    held = np.zeros((int(br.max()) - b0r + 1, int(bc.max()) - b0c + 1), bool)
+    held[br - b0r, bc - b0c] = True
+    blocks = BlockGrid.from_status(b, b0r, b0c, held, np.zeros_like(held))
+    bits = np.zeros((len(blocks), b, b), bool)
+    bits[blocks.table[br - b0r, bc - b0c], rows - br * b, cols - bc * b] = True
+    return medial_fill_blocks(blocks, bits, grid.pixel_size, w, min_width)
 
 
 def uncovered_blocks(field, fill: np.ndarray, levels, w: float) -> np.ndarray:
