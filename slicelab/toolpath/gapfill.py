@@ -84,7 +84,9 @@ def medial_fill(grid: GridMask, uncovered: np.ndarray, w: float, min_width: floa
     """Polylines along the medial axis of the parts of `uncovered` at least `min_width` wide.
 
     Returns the polylines (mm) and the extrusion width at each vertex (the
-    local width of the uncovered part, between `min_width` and 1.5 w).
+    local width of the uncovered part, between `min_width` and 1.5 w). The
+    pixels are worked on in the world-anchored blocks of 32 that hold some
+    (`medial_fill_blocks`), so the cost follows the gaps, not their box.
 
     See Also
     --------
