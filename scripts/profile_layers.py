@@ -180,18 +180,20 @@ def main() -> None:
     sections = slice_layers(mesh, heights=lo[2] + bounds.mean(axis=1))
     n = len(sections)
     first = max(n // 4, s.bottom_layers + 1) if args.first is None else args.first
-    stop = min(first + args.layers, n - s.top_layers - 20)
-    runs = range(first, stop, 20)
+    stop = min(first + args.layers, n)
+    runs = [(a, min(a + 20, stop)) for a in range(first, stop, 20)]  # (the last one may be short)
+    if not runs:
+        raise SystemExit(f"profile_layers: no layers from {first}: the part has {n}")
     from slicelab.mesh import default_tolerance
     tol = default_tolerance(mesh)  # (layers that repeat are compared as the planner compares them)
 
     def plan_runs():
-        for a in runs:
-            window = {j: sections[j] for j in range(max(0, a - s.bottom_layers - 1), min(n, a + 20 + s.top_layers))}
-            planner._run_chunk(a, a + 20, n, window, bounds[a:a + 20, 1], s, repeat_tolerance=tol)
+        for a, b in runs:
+            window = {j: sections[j] for j in range(max(0, a - s.bottom_layers - 1), min(n, b + s.top_layers))}
+            planner._run_chunk(a, b, n, window, bounds[a:b, 1], s, repeat_tolerance=tol)
 
     plan_runs()  # imports, compiled kernels
-    layers = 20 * len(runs)
+    layers = stop - first
     times = []
     for _ in range(3):
         t = time.perf_counter()

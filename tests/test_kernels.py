@@ -450,3 +450,69 @@ def test_ring_hierarchy_matches_the_even_odd_test_ring_by_ring(seed):
                    and points_in_ring(loops[c][:1], loops[a])[0]]
         assert depth[c] == len(holders)
         assert parent[c] == (min(holders, key=lambda a: areas[a]) if holders else -1)
+
+
+def _walked_chains(skel):
+    """The skeleton's chains walked pixel by pixel in Python: the oracle of the compiled walk."""
+    from slicelab.geometry.contours import skeleton_neighbours
+    pts, nbr = skeleton_neighbours(skel)
+    deg = (nbr >= 0).sum(axis=1).tolist()
+    nbr = nbr.tolist()
+    junction = [d >= 3 for d in deg]
+    seen = list(junction)
+    chains = []
+
+    def walk(start):
+        path, prev, cur = [start], -1, start
+        seen[start] = True
+        while True:
+            nxt = [j for j in nbr[cur] if j >= 0 and j != prev and not seen[j]]
+            if not nxt:
+                return path
+            prev, cur = cur, nxt[0]
+            seen[cur] = True
+            path.append(cur)
+
+    for s in sorted(range(len(pts)), key=lambda i: deg[i] != 1):
+        if seen[s]:
+            continue
+        path = walk(s)
+        if deg[s] != 1:
+            path = walk(s)[1:][::-1] + path
+            if deg[s] == 2 and len(path) > 2 and path[0] in nbr[path[-1]]:
+                path.append(path[0])
+        ends = [j for j in nbr[path[0]] if j >= 0 and junction[j]][:1], \
+            [j for j in nbr[path[-1]] if j >= 0 and junction[j]][:1]
+        path = ends[0] + path + ends[1]
+        if len(path) >= 2:
+            chains.append(pts[path])
+    return chains
+
+
+def test_skeleton_chains_walk_lines_cycles_and_junctions():
+    from slicelab.geometry.contours import trace_skeleton
+    from slicelab.geometry.graphs import thin
+    line = np.zeros((3, 9), bool)
+    line[1, 1:8] = True
+    (chain,) = trace_skeleton(line)
+    assert sorted(map(tuple, chain)) == [(1, c) for c in range(1, 8)] and abs(int(chain[0, 1]) - int(chain[-1, 1])) == 6
+    plus = np.zeros((9, 9), bool)
+    plus[4, 1:8] = plus[1:8, 4] = True
+    chains = trace_skeleton(plus)
+    assert len(chains) == 4 and all(len(c) == 4 and (4, 4) in map(tuple, c[[0, -1]]) for c in chains)
+    ring = np.zeros((12, 12), np.uint8)
+    import cv2
+    cv2.circle(ring, (6, 6), 4, 1, 1)
+    (cycle,) = trace_skeleton(thin(ring.astype(bool)))
+    assert np.array_equal(cycle[0], cycle[-1]) and len(cycle) > 10
+    rng = np.random.default_rng(7)
+    for trial in range(40):  # thinned random blobs: branches, junction clusters, cycles
+        img = np.zeros((60, 80), np.uint8)
+        for _ in range(rng.integers(1, 6)):
+            cv2.line(img, tuple(int(v) for v in rng.integers(0, 80, 2)), tuple(int(v) for v in rng.integers(0, 60, 2)),
+                     1, int(rng.integers(1, 7)))
+        skel = thin(img.astype(bool))
+        ours, theirs = trace_skeleton(skel), _walked_chains(skel)
+        assert len(ours) == len(theirs)
+        for a, b in zip(ours, theirs):
+            np.testing.assert_array_equal(a, b)

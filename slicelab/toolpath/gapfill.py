@@ -218,16 +218,18 @@ def medial_fill_blocks(grid: BlockGrid, uncovered: np.ndarray, pixel_size: float
         return sub.cores(img, halo, gap=1)
 
     threshold = _threshold(min_width, p)
-    if threshold <= 1.0:  # every set pixel is a pixel from the background: every part is wide enough
-        keep = bits
-    else:
-        seeds = own(cv2.distanceTransform(stacked(bits), cv2.DIST_L2, cv2.DIST_MASK_PRECISE)) >= threshold
+    img, d = stacked(bits), None
+    if threshold > 1.0:  # (else every set pixel is a pixel from the background: every part is wide enough)
+        d = cv2.distanceTransform(img, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
+        seeds = own(d) >= threshold
         if not seeds.any():
             return [], []
         labels, _ = sub.components(bits)
         keep = _labelled(labels, labels[seeds]) & bits
-    img = stacked(keep)
-    d = cv2.distanceTransform(img, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
+        if np.count_nonzero(keep) < np.count_nonzero(bits):  # parts too thin left out: distances again
+            img, d = stacked(keep), None
+    if d is None:
+        d = cv2.distanceTransform(img, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)
     skel = own(thin(img.view(bool)) & (d >= threshold - 1))
     d = own(d)
     k, r, c = np.nonzero(skel)
