@@ -4,7 +4,8 @@ The parts (each skipped with a note when its file is missing): the project's pot
 (`data/pot.stl`, 124 mm, 17,568 facets), a 96 mm CAD-like block with holes, bosses,
 1 mm walls and a dome (`data/large/block_100.stl`, `make data-large`), the Utah
 teapot from `../shared/meshes/scans/` scaled to 120 mm (`--scale` on both sides),
-the 1M-facet torus (`data/large/torus_1m.stl`, 80 mm), a 20 mm deck bridged between
+the 1M-facet torus (`data/large/torus_1m.stl`, 80 mm), a 180 mm tray with 2 mm walls and floor
+(`data/tray.stl`: large outlines and large skins, few facets), a 20 mm deck bridged between
 two pillars (`data/bridge.stl`) and a mushroom whose 40 mm cap hangs 15 mm out
 (`data/mushroom.stl`, sliced with supports on both sides: `--support auto`,
 `--support-material` with slicelab's support settings, `PRUSA_SUPPORT`). `--mesh` (repeatable) runs other files instead, with supports given
@@ -184,6 +185,7 @@ PARTS = (("pot", ROOT / "data" / "pot.stl", None, False),
          ("block 96 mm", ROOT / "data" / "large" / "block_100.stl", None, False),
          ("teapot 120 mm", ROOT.parent / "shared" / "meshes" / "scans" / "utah_teapot.stl", 120.0, False),
          ("torus 1M", ROOT / "data" / "large" / "torus_1m.stl", None, False),
+         ("tray 180 mm", ROOT / "data" / "tray.stl", None, False),
          ("bridge 40 mm", ROOT / "data" / "bridge.stl", None, False),
          ("mushroom supp.", ROOT / "data" / "mushroom.stl", None, True))
 

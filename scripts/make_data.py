@@ -34,11 +34,29 @@ SMALL = {
                                      & ~((np.arange(40)[:, None, None] >= 10) & (np.arange(40)[:, None, None] < 30)
                                          & (np.arange(23)[None, None, :] < 20))),
     # A 10 x 10 x 20 mm stem under a 40 x 40 x 4 mm cap: an overhang all round, for supports.
+    # A 180 x 180 x 20 mm tray, 2 mm walls and floor: large outlines, large skins.
+    "tray": lambda: tray_part(),
     "mushroom": lambda: samples.voxels((np.arange(24)[None, None, :] >= 20)
                                        | ((np.abs(np.arange(40) - 19.5)[:, None, None] < 5)
                                           & (np.abs(np.arange(40) - 19.5)[None, :, None] < 5))
                                        & np.ones((40, 40, 24), bool)),
 }
+
+def tray_part(size: float = 180.0, height: float = 20.0, wall: float = 2.0):
+    """A tray: a `size` mm square box `height` mm tall, its walls and floor `wall` mm thick, open at
+    the top (28 facets, closed and manifold): a common print whose layers are large outlines
+    and large skins."""
+    from slicelab import Mesh
+    a, b = wall, size - wall
+    sq = lambda lo, hi, z: np.array([[lo, lo, z], [hi, lo, z], [hi, hi, z], [lo, hi, z]], float)  # noqa: E731
+    o, t, i, f = sq(0, size, 0), sq(0, size, height), sq(a, b, height), sq(a, b, wall)
+    tris = [(o[0], o[3], o[2]), (o[0], o[2], o[1]), (f[0], f[1], f[2]), (f[0], f[2], f[3])]  # bottom, pocket floor
+    for k in range(4):  # over the sides: outer wall, rim, inner wall (outward normals)
+        n = (k + 1) % 4
+        tris += [(o[k], o[n], t[n]), (o[k], t[n], t[k]), (t[k], t[n], i[n]), (t[k], i[n], i[k]),
+                 (f[k], i[n], f[n]), (f[k], i[k], i[n])]
+    return Mesh(np.array(tris))
+
 
 def block_part():
     """A 96 x 96 x 72 mm CAD-like part of 1 mm cells: a plate with four through holes, two
