@@ -118,7 +118,7 @@ def costs(mesh, s) -> None:
     import numpy as np
 
     from slicelab.slicing.sections import slice_layers
-    from slicelab.toolpath import paths, planner
+    from slicelab.toolpath import paths, planner, schedule
     spent = {}
     with timing(paths, "layer_paths", lambda a, k, t: spent.__setitem__(k["layer_index"], 1000 * t)):
         planner.plan(mesh, s, workers=1)  # imports, compiled kernels
@@ -126,7 +126,7 @@ def costs(mesh, s) -> None:
         planner.plan(mesh, s, workers=1)
     lo, hi = mesh.bounds
     bounds = planner.layer_bounds(float(hi[2] - lo[2]), s.layer_height, s.first_layer_height)
-    length, skin = planner._layer_costs(slice_layers(mesh, heights=lo[2] + bounds.mean(axis=1)), s)
+    length, skin = schedule.layer_costs(slice_layers(mesh, heights=lo[2] + bounds.mean(axis=1)), s)
     # Layers that repeat take the toolpaths of the layer two below (no layer_paths call): only the
     # layers planned afresh are fitted.
     afresh = np.array(sorted(spent), dtype=np.int64)
@@ -137,9 +137,10 @@ def costs(mesh, s) -> None:
     (a, b, c), *_ = np.linalg.lstsq(x, ms, rcond=None)
     r2 = 1 - float(((ms - x @ (a, b, c)) ** 2).sum() / max(((ms - ms.mean()) ** 2).sum(), 1e-300))
     print(f"{n} layers: {len(afresh)} planned afresh, {n - len(afresh)} taken from the layer two below "
-          f"(layers that repeat); {ms.sum() / 1000:.2f} s in layer_paths, one process")
+          f"or from the start of an earlier run (layers that repeat); {ms.sum() / 1000:.2f} s in layer_paths, "
+          "one process")
     print(f"ms per layer = {a:.5f} x boundary mm + {b:.6f} x skin mm^2 + {c:.2f} (R^2 {r2:.2f}); skin weight "
-          f"b / a = {b / a:.2f} (the planner uses {planner._SKIN_COST})")
+          f"b / a = {b / a:.2f} (the planner uses {schedule.SKIN_COST})")
     print("costliest layers:   ms   boundary mm   skin mm^2")
     for i in np.argsort(ms)[::-1][:8]:
         print(f"  {afresh[i]:>6} {ms[i]:10.2f} {length[i]:12.1f} {skin[i]:11.1f}")

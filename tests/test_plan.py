@@ -368,6 +368,32 @@ def test_layers_that_repeat_take_the_toolpaths_two_below(part, tmp_path, monkeyp
     assert np.allclose(reused.areas, fresh.areas) and np.array_equal(reused.overhangs, fresh.overhangs, equal_nan=True)
 
 
+def test_runs_that_start_alike_are_made_once(tmp_path, monkeypatch):
+    # A 20 mm cube with a round hole: 100 layers, runs of 20. The nozzle starts afresh at each run,
+    # so each run's first layers are planned anew until its toolpaths settle; the runs from 40 on
+    # start as the run at 20 did (steady layers, one outline) and take those layers, made once.
+    # The G-code read back is the one every layer planned afresh gives, with one worker or two.
+    import slicelab.toolpath.paths as paths
+    import slicelab.toolpath.repeats as repeats
+    mesh = cube_with_hole(size=20.0, radius=5.0)
+    s = PrintSettings(pixel_size=0.1)
+    assert repeats.run_starts(dict(enumerate(slicelab.slice_layers(mesh, heights=np.arange(0.1, 20, 0.2)))), 100,
+                              (4, 3), 1e-5, 20, 6) == {20: 20, 40: 20, 60: 20, 80: 20}
+    computed = []
+    real = paths.layer_paths
+    monkeypatch.setattr(paths, "layer_paths", lambda *a, **k: computed.append(k["layer_index"]) or real(*a, **k))
+    one = plan(mesh, s, workers=1)
+    assert {20, 21} <= set(computed) and not {40, 41, 60, 61, 80, 81} & set(computed)
+    write_gcode(one, tmp_path / "one.gcode")
+    write_gcode(plan(mesh, s, workers=2), tmp_path / "two.gcode")
+    monkeypatch.setattr(repeats, "same_outline", lambda *args: False)  # every layer planned afresh
+    computed.clear()
+    write_gcode(plan(mesh, s, workers=1), tmp_path / "fresh.gcode")
+    assert len(computed) == 100
+    fresh = (tmp_path / "fresh.gcode").read_bytes()
+    assert (tmp_path / "one.gcode").read_bytes() == fresh == (tmp_path / "two.gcode").read_bytes()
+
+
 def test_layers_of_a_prism_written_in_float32_far_from_the_origin_repeat(tmp_path, monkeypatch):
     # An STL holds float32: the cube with a hole 500 mm out has walls that lean by the coordinates'
     # rounding (layers differ by micrometre thousandths). Its layers are still taken from those

@@ -22,6 +22,7 @@
 ``toolpath.settings``       `PrintSettings` in groups (extrusion, infill, skins, motion, ...)
 ``toolpath.printers``       printer profiles, TOML settings files, start and end G-code
 ``toolpath.repeats``        layers that repeat: outlines compared, a prismatic stretch planned once
+``toolpath.schedule``       which runs of layers the workers take first, by an estimate of their cost
 ``toolpath.planner``        `plan` a whole part -> `PrintPlan`
 ``toolpath.pool``           the forked process pool that plans layers and formats G-code
 ==========================  =====================================================
@@ -54,7 +55,8 @@ _WHERE = {"PRINTERS": "printers", "FLAVORS": "printers", "resolve_settings": "pr
           "Cooling": "settings", "Adhesion": "settings", "Walls": "settings", "Supports": "settings", "PIXEL": "supports", "layer_skins": "skins", "SUPPORTS": "supports", "support_masks": "supports", "support_paths": "supports", "Machine": "settings", "Raster": "settings",
           "GROUPS": "settings", "outline_key": "repeats", "same_outline": "repeats", "same_point": "repeats",
           "outline_size": "repeats", "may_repeat": "repeats", "Repeats": "repeats",
-          "same_mask": "repeats"}
+          "same_mask": "repeats", "RunStart": "repeats", "start_candidates": "repeats", "run_starts": "repeats",
+          "SKIN_COST": "schedule", "REPEAT_COST": "schedule", "layer_costs": "schedule", "costliest_first": "schedule"}
 
 
 __all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_config", "render_gcode", "MARLIN_START", "MARLIN_END", "GridMask", "BlockMask", "bits_in_blocks", "open_mask", "LayerRaster", "RasterContours", "rasterize", "layer_mask", "winding_numbers", "raster_hierarchy",
@@ -68,7 +70,8 @@ __all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_con
            "PrintPlan", "forked_pool", "plan", "layer_bounds", "settings_dict", "setting_names", "Extrusion", "Infill", "Skins",
            "Motion", "Cooling", "Adhesion", "Machine", "Raster", "Walls", "Supports", "PIXEL", "SUPPORTS",
            "support_masks", "support_paths", "layer_skins", "GROUPS", "SEAMS", "Bridge", "LayerOverhangs",
-           "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS", "outline_key", "same_outline", "same_point", "outline_size", "may_repeat", "Repeats", "same_mask"]
+           "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS", "outline_key", "same_outline", "same_point", "outline_size", "may_repeat", "Repeats", "same_mask",
+           "RunStart", "start_candidates", "run_starts", "SKIN_COST", "REPEAT_COST", "layer_costs", "costliest_first"]
 
 
 __getattr__, __dir__ = attach(__name__, _WHERE, globals())

@@ -29,6 +29,7 @@ import numpy as np
 
 from ..mesh.core import Mesh
 from .bed import check_bed
+from .repeats import RunStart
 from .settings import PrintSettings
 
 __all__ = ["PrintPlan", "plan", "layer_bounds"]
@@ -184,11 +185,13 @@ class PrintPlan:
 
 # ------------------------------------------------------------------ workers
 _RUN = 20  # layers over which the nozzle is carried (seams), the paths' unit of work
+_START = 6  # first layers of a run made once for the runs that start alike (their toolpaths settle by then)
 _GROUP = 5  # runs per call at most: a worker's call holds the rasters of its layers' neighbours
 
 
 def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, s: PrintSettings,
-               layer_text=None, heights=None, layer_drawing=None, extent=None, repeat_tolerance: float = 1e-9):
+               layer_text=None, heights=None, layer_drawing=None, extent=None, repeat_tolerance: float = 1e-9,
+               starts: dict | None = None, state: dict | None = None):
     """Toolpaths of layers first..stop-1 of n (and, given `layer_text` and `layer_drawing`, their
     text and drawings: see `plan`).
 
@@ -200,7 +203,10 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     once, when the first layer that reads it comes, and dropped when the last has. A layer of a
     prismatic stretch takes the toolpaths of the layer two below when all they depend on is
     the same (`slicelab.toolpath.repeats`; outlines within `repeat_tolerance` mm), within a run
-    of layers. Everything comes as arguments: a pool's worker needs no state from the parent.
+    of layers; a run that starts as an earlier one did takes its first layers from `starts` (run
+    start -> `slicelab.toolpath.repeats.RunStart`). Everything comes as arguments: a pool's worker
+    needs no state from the parent. `state`, if given, receives the nozzle's position, the seam,
+    what `Repeats` keeps and the solid skin after the last layer.
     """
     from .overhangs import EDGE_MARGIN, layer_overhangs, mark_overhangs
     from .paths import layer_paths
@@ -233,10 +239,23 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     out = []
     reach(first)  # (the skins of layer first - 1 read no further)
     below_solid = layer_skins(first - 1, masks, s.skins, s.line_width)[0] if first > 0 else None
+    resume = first
     for k in range(first, stop):  # over layers
+        if k < resume:
+            continue
         if k == first or k % _RUN == 0:  # a run starts: the nozzle, and the seam below (aligned seams)
             pos = seam = None
             repeats.clear()
+            alike = starts.get(k) if starts else None
+            if alike is not None:  # a run that starts as an earlier one: what it made, at these heights
+                for i, (lp, areas, held, unheld) in enumerate(alike.layers):
+                    lp = replace(lp, z=float(z_tops[k + i - first]))
+                    lp.extruded_area()
+                    out.append((k + i, lp, areas, held, unheld))
+                pos, seam, below_solid = alike.pos, alike.seam, alike.below_solid
+                repeats.kept.update(alike.kept)
+                resume = k + len(alike.layers)
+                continue
         parity = k % 2
         taken = repeats.take(k, pos, seam)  # (a steady layer: before its raster and skins)
         if taken is not None:  # the layer two below again: the same toolpaths, at this height
@@ -303,6 +322,8 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
         lp = replace(lp, z=float(z_tops[k - first]), perimeters=None)
         lp.extruded_area()  # summed here, on all cores: the sums travel with the layer (its cached state)
         out.append((k, lp, areas, held, ov.unheld if ov is not None else ()))
+    if state is not None:
+        state.update(pos=pos, seam=seam, kept=dict(repeats.kept), below_solid=below_solid)
     layers = [r[1] for r in out]
     texts = [None] * len(out) if layer_text is None else layer_text(first, layers, heights)
     drawings = [None] * len(out) if layer_drawing is None else layer_drawing(layers, extent)
@@ -426,11 +447,33 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     from ..mesh.repairs import default_tolerance
     tol = default_tolerance(mesh)
 
-    def job(a, b):
-        """The arguments of run a..b-1: its layers and the neighbours its skins look at."""
+    # Runs that start as an earlier one did (steady layers, the same outline): their first layers
+    # are made once, here, for all of them (`make_starts`).
+    from .repeats import run_starts, start_candidates
+    reach = (s.bottom_layers + 1, s.top_layers)
+    repeating = s.infill_pattern != "gyroid" or s.infill_density == 0
+    maybe = set(start_candidates(dict(enumerate(sections)), n, reach, tol, _RUN, _START)) if repeating else set()
+    alike, made = {}, {}
+
+    def job(a, b, text=text, drawing=drawing):
+        """The arguments of run a..b-1: its layers, the neighbours its skins look at and the first
+        layers of its runs that start as an earlier one."""
         lo, hi = max(0, a - s.bottom_layers - 1), min(n, b + s.top_layers)  # (the skins of a - 1 too)
+        starts = {k: made[alike[k]] for k in range(a, b) if k in alike and alike[k] in made}
         return (a, b, n, {j: sections[j] for j in range(lo, hi)}, z_tops[a:b], s, text, heights[a:b], drawing,
-                extent, tol)
+                extent, tol, starts)
+
+    def make_starts():
+        if maybe:
+            alike.update(run_starts(dict(enumerate(sections)), n, reach, tol, _RUN, _START))
+        for k0 in sorted(set(alike.values())):  # over the outlines of the steady stretches, few
+            state = {}
+            rows = _run_chunk(*job(k0, k0 + _START, None, None), state=state)
+            made[k0] = RunStart(tuple(r[1:5] for r in rows), state["pos"], state["seam"], state["kept"],
+                                state["below_solid"])
+
+    def may_need_starts(chunk):
+        return any(k in maybe for k in range(chunk[0], chunk[1], _RUN))
 
     results = []
     # Fixed runs of layers, whatever the number of workers: a run carries the nozzle from
@@ -442,6 +485,7 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     chunks = [(a, min(n, a + group * _RUN)) for a in range(0, n, group * _RUN)]
     if workers == 1 or len(chunks) == 1:
         bar = _bar(n, progress)
+        make_starts()
         for a, b in chunks:
             results += _run_chunk(*job(a, b))
             bar.update(b - a)
@@ -450,10 +494,15 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
         from concurrent.futures import as_completed
 
         from .pool import forked_pool
+        from .schedule import costliest_first
         bar = _bar(n, progress)
+        order = costliest_first(chunks, sections, s, tol)
         with forked_pool(workers) as pool:
-            futures = {pool.submit(_run_chunk, *job(a, b)): (a, b)
-                       for a, b in _costliest_first(chunks, sections, s, tol)}
+            # The runs that cannot start alike go first: the workers plan them while the others'
+            # first layers are made here.
+            futures = {pool.submit(_run_chunk, *job(a, b)): (a, b) for a, b in order if not may_need_starts((a, b))}
+            make_starts()
+            futures.update({pool.submit(_run_chunk, *job(a, b)): (a, b) for a, b in order if may_need_starts((a, b))})
             for fut in as_completed(futures):
                 results += fut.result()
                 a, b = futures[fut]
@@ -503,61 +552,6 @@ def _with_supports(layers: list, sections: list, unheld: list, s: PrintSettings)
                          sheath=s.support_sheath)
     return [lp.inserted(sum(k in ("skirt", "brim") for k in lp.kind), [(k, q, lp.line_width) for k, q in extra])
             for lp, extra in zip(layers, rows)]  # over layers
-
-
-#: A layer's cost per mm^2 of skin against its cost per mm of boundary (solid lines fill a skin's
-#: whole area): `scripts/profile_layers.py --costs` fits it to each layer's time (0.14-0.39 on the
-#: block, the pot and the teapot).
-_SKIN_COST = 0.4
-
-
-def _layer_costs(sections: list, s: PrintSettings, size: list | None = None) -> tuple[np.ndarray, np.ndarray]:
-    """Each layer's boundary length (mm) and skin area (mm^2): the area it has and a neighbour
-    within the skins' reach lacks (or lacks and it has), all of it on the first and last layers.
-    From each layer's `slicelab.toolpath.repeats.outline_size` (`size`, made here if not given)."""
-    from .repeats import outline_size
-    n = len(sections)
-    size = [outline_size(sec) for sec in sections] if size is None else size  # over layers
-    area, length = np.abs([a for a, _ in size]).reshape(n), np.array([b for _, b in size]).reshape(n)
-    skin = np.zeros(n)
-    below, above = s.bottom_layers, s.top_layers
-    for d in range(1, min(n, max(below, above) + 1)):  # over the neighbours the skins read
-        change = np.abs(area[d:] - area[:-d])
-        if d <= above:
-            skin[:-d] = np.maximum(skin[:-d], change)
-        if d <= below:
-            skin[d:] = np.maximum(skin[d:], change)
-    skin[:below] = area[:below]
-    skin[max(0, n - above):] = area[max(0, n - above):]
-    return length, skin
-
-
-#: A layer of a prismatic stretch takes the toolpaths of the layer two below (`_run_chunk`): its
-#: cost against a layer planned afresh (the block's, the bridge's: rasters of neighbours, G-code text).
-_REPEAT_COST = 0.2
-
-
-def _costliest_first(chunks: list, sections: list, s: PrintSettings, tolerance: float = 1e-9) -> list:
-    """The runs of layers in the order to hand them out: the costliest first, so that no worker
-    is left with a big one at the end while the others idle (longest processing time first).
-
-    A layer's cost is taken as its boundary's length, as pixels are held only along the
-    boundaries, plus `_SKIN_COST` times its skin's area (`_layer_costs`), times `_REPEAT_COST`
-    where it and every layer its skins read have the same area within `tolerance` (it likely
-    repeats the layer two below: `slicelab.toolpath.repeats.may_repeat`).
-    """
-    from .repeats import may_repeat, outline_size
-    size = [outline_size(sec) for sec in sections]  # over layers: area and boundary length, once
-    length, skin = _layer_costs(sections, s, size)
-    alike = np.array([False] + [may_repeat(a, b, tolerance) for a, b in zip(size[1:], size[:-1])])  # over layers
-    n, below, above = len(sections), s.bottom_layers, s.top_layers
-    ends = np.concatenate([[0], np.cumsum(~alike)])  # layers unlike the one below, up to each
-    k = np.arange(n)
-    lo, hi = np.clip(k - below, 0, n), np.clip(k + above + 1, 0, n)
-    repeats = (k - below - 1 >= 0) & (k + above < n) & (ends[hi] - ends[lo] == 0)
-    cost = length + _SKIN_COST * skin
-    cost = np.concatenate([[0.0], np.cumsum(np.where(repeats, _REPEAT_COST * cost, cost))])
-    return sorted(chunks, key=lambda c: cost[c[1]] - cost[c[0]], reverse=True)
 
 
 def _warm_imports() -> None:

@@ -24,9 +24,12 @@ slicelab.toolpath.planner.plan : reuses the toolpaths of repeating layers.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
-__all__ = ["outline_size", "may_repeat", "outline_key", "same_outline", "same_point", "same_mask", "Repeats"]
+__all__ = ["outline_size", "may_repeat", "outline_key", "same_outline", "same_point", "same_mask", "Repeats",
+           "RunStart", "start_candidates", "run_starts"]
 
 
 def outline_size(section) -> tuple[float, float]:
@@ -263,3 +266,91 @@ class Repeats:
             self.kept.pop(k % 2, None)
         else:
             self.kept[k % 2] = (key, start, seam, skins, steady, value)
+
+
+@dataclass(frozen=True, eq=False)
+class RunStart:
+    """What the first layers of a run of steady layers make, for every run that starts alike.
+
+    Attributes
+    ----------
+    layers : tuple
+        Each layer's (toolpaths, areas, overhang summary, unheld pixels), as the planner makes them.
+    pos, seam : ndarray or None
+        The nozzle's position and the seam after the last of them.
+    kept : dict
+        What `Repeats` keeps after them (the layers two above take from it).
+    below_solid : mask or None
+        The solid skin of the last of them.
+    """
+
+    layers: tuple
+    pos: object
+    seam: object
+    kept: dict
+    below_solid: object = None
+
+
+def start_candidates(sections: dict, n: int, reach: tuple, tolerance: float, run: int, length: int) -> list:
+    """The run starts (multiples of `run` after the first) whose first `length` layers, and every
+    layer their skins read, have the areas of the layers below them within `tolerance` mm: those
+    whose outlines `run_starts` compares (a cheap test, areas alone).
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> sq = np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float)
+    >>> layer = SimpleNamespace(open_chains=[], loops=[sq], segments=np.stack([sq, np.roll(sq, -1, axis=0)], 1))
+    >>> start_candidates({k: layer for k in range(50)}, 50, (4, 3), 1e-9, 20, 6)
+    [20, 40]
+    """
+    below, above = int(reach[0]), int(reach[1])
+    size = {}
+
+    def alike_by_area(j):  # layer j and the one below may have one outline (their areas say so)
+        for i in (j - 1, j):
+            if i not in size:
+                size[i] = outline_size(sections[i]) if i in sections else None
+        return size[j - 1] is not None and size[j] is not None and may_repeat(size[j], size[j - 1], tolerance)
+
+    return [k for k in range(run, n - length + 1, run)  # over run starts after the first
+            if k - below >= 0 and k + length - 1 + above < n
+            and all(alike_by_area(j) for j in range(k - below + 1, k + length + above))]
+
+
+def run_starts(sections: dict, n: int, reach: tuple, tolerance: float, run: int, length: int) -> dict:
+    """The runs of layers that start alike: run start k -> the run start k0 whose first `length`
+    layers it repeats (k0 -> k0 for the first of them).
+
+    A run of `run` layers starts with the nozzle afresh, so its first layers are planned anew
+    even in a prismatic stretch, until their toolpaths repeat two layers apart. A run whose
+    first `length` layers are steady (`Repeats.steady`: no skin, no overhang) and have the
+    outlines of those of an earlier such run, within `tolerance` mm, makes what that run made:
+    the planner makes those layers once (`RunStart`), however the runs are grouped. Only the
+    `start_candidates` are compared, and only stretches that more than one run starts in count.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> sq = np.array([[0, 0], [2, 0], [2, 2], [0, 2]], float)
+    >>> layer = SimpleNamespace(open_chains=[], loops=[sq], segments=np.stack([sq, np.roll(sq, -1, axis=0)], 1))
+    >>> run_starts({k: layer for k in range(100)}, 100, (4, 3), 1e-9, 20, 6)
+    {20: 20, 40: 20, 60: 20, 80: 20}
+    """
+    below, above = int(reach[0]), int(reach[1])
+    candidates = start_candidates(sections, n, reach, tolerance, run, length)
+    near = {j for k in candidates for j in range(k - below, k + length + above)}
+    r = Repeats({j: sections[j] for j in sorted(near)}, n, reach, tolerance)
+    found, firsts = {}, []
+    for k in candidates:
+        if not all(r.steady(j) for j in range(k, k + length)):
+            continue
+        keys = [r.keys.get(j) for j in range(k, k + length)]
+        for k0, keys0 in firsts:  # over earlier outlines, few
+            if all(same_outline(a, b, r.tolerance) for a, b in zip(keys, keys0)):
+                found[k] = k0
+                break
+        else:
+            firsts.append((k, keys))
+            found[k] = k
+    return {k: k0 for k, k0 in found.items() if sum(1 for v in found.values() if v == k0) > 1}
