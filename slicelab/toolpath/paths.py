@@ -24,6 +24,8 @@ slicelab.toolpath.roles : the roles of the paths and how outputs name them.
 """
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 
 from ..geometry.polygons import Polygon, points_in_ring, signed_area
@@ -31,7 +33,7 @@ from ..geometry.spatial import SegmentIndex
 from .infill import line_spacing, rectilinear
 from .patterns import fill_pattern
 from .perimeters import Perimeters, layer_perimeters, level_polygons, medial_fill, perimeter_band, split_by_mask
-from .raster import GridMask, LayerRaster, draw_polylines, rasterize, winding_numbers
+from .raster import GridMask, LayerRaster, draw_polylines, raster_blocks, rasterize
 from .roles import ISLAND_ROLES
 from .simplify import simplify_paths, simplify_rings
 from .table import LayerPaths
@@ -353,6 +355,16 @@ def _simplified(polygons: list, tolerance: float) -> list:
     return out
 
 
+@functools.lru_cache(maxsize=8)
+def _reach_disc(reach: float, pixel_size: float) -> np.ndarray:
+    """The pixel offsets within `reach` mm, centre to centre (uint8), measured as a float32
+    distance transform measures them: a dilation by it marks what the transform finds that near."""
+    k = int(np.ceil(reach / pixel_size)) + 1
+    dy, dx = np.mgrid[-k:k + 1, -k:k + 1]
+    d = np.sqrt((dy * dy + dx * dx).astype(np.float32))
+    return (~(d * pixel_size > reach)).astype(np.uint8)
+
+
 def _solid_gaps(per: Perimeters, fills: list, sparse: list, region: list):
     """Gap fill for what solid filling misses (slivers where its lines run nearly parallel).
 
@@ -383,13 +395,14 @@ def _solid_gaps(per: Perimeters, fills: list, sparse: list, region: list):
         cov = draw_polylines(shape, r0, c0, p, rings, w, closed=True)
         cov |= draw_polylines(shape, r0, c0, p, list(fills) + list(per.gap_fill), w)
         uncovered = g.window(r0, c0, shape) & (cov < 128)
-        if sparse:
+        if sparse:  # pixels within half a line and a pixel of the sparse filling are its lines'
             import cv2
             edges = np.concatenate([np.stack([r, np.concatenate((r[1:], r[:1]))], 1)
                                     for q in sparse for r in (q.exterior, *q.holes)])
-            outside = winding_numbers(edges, r0, c0, shape, p) == 0
-            near = cv2.distanceTransform(outside.astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE) * p
-            uncovered &= near > 0.5 * w + p
+            # The sparse region drawn on blocks along its boundary (the cost follows it), then
+            # dilated by the disc of that reach: the pixels a distance transform would find within it.
+            held = raster_blocks(edges, r0, c0, shape, p, band=0.0).window(r0, c0, shape)
+            uncovered &= ~cv2.dilate(held.view(np.uint8), _reach_disc(0.5 * w + p, p)).view(bool)
         # Only the region's box, widened by what its lines' ends reach: there the distance to the
         # sparse region is exact (the margin holds every sparse pixel that near).
         ir0, ir1, ic0, ic1 = box(int(np.ceil((0.5 * w + p) / p)))
