@@ -251,3 +251,20 @@ def test_a_raster_drawn_on_the_neighbours_mask_is_the_raster_drawn_afresh(rule):
         np.testing.assert_array_equal(a, b)
     empty = slicelab.section(box((0, 0, 5), (1, 1, 6)), (0, 0, 1), (0, 0, 1))  # (the plane misses it)
     assert layer_mask(empty, 0.2) is None and rasterize(empty, 0.2, tile=None).tiles == ()
+
+
+def test_a_mask_dilated_by_the_reach_disc_is_what_the_distance_transform_puts_within_the_reach():
+    # The skins' gap fill and the overhangs' first pass dilate a mask instead of measuring the
+    # distance to it: the same pixels, ties at the reach included (float32, as OpenCV measures;
+    # 0.05 mm pixels and 0.5 mm lines put pixels 6 apart at 5.999999999999999 reaches).
+    import cv2
+    from slicelab.toolpath.masks import reach_disc
+    rng = np.random.default_rng(3)
+    for t in range(120):
+        p = (0.05, 0.1, 0.2, 0.15, 0.3)[t % 5]
+        src = rng.random(tuple(rng.integers(20, 90, 2))) < rng.uniform(0.005, 0.2)
+        src[0, 0] = True
+        dist = cv2.distanceTransform((~src).astype(np.uint8), cv2.DIST_L2, cv2.DIST_MASK_PRECISE) * p
+        for reach, slack in ((0.5 * 0.4 + p, 0.0), (0.5 * 0.5 + p, 0.0), (0.2 * np.tan(np.radians(50)), 0.5 * p)):
+            far = ~cv2.dilate(src.astype(np.uint8), reach_disc(reach, p, slack)).astype(bool)
+            np.testing.assert_array_equal(far, dist - slack > reach)

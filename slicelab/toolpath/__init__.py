@@ -32,7 +32,7 @@ from __future__ import annotations
 from .._lazy import attach
 
 # Submodule of each public name: they load on first use (matplotlib and the like are slow to import).
-_WHERE = {"PRINTERS": "printers", "FLAVORS": "printers", "resolve_settings": "printers", "read_config": "printers", "format_config": "printers", "render_gcode": "printers", "MARLIN_START": "printers", "MARLIN_END": "printers", "GridMask": "masks", "BlockMask": "masks", "bits_in_blocks": "masks", "open_mask": "masks", "LayerRaster": "raster", "RasterContours": "hierarchy", "rasterize": "raster", "layer_mask": "raster",
+_WHERE = {"PRINTERS": "printers", "FLAVORS": "printers", "resolve_settings": "printers", "read_config": "printers", "format_config": "printers", "render_gcode": "printers", "MARLIN_START": "printers", "MARLIN_END": "printers", "GridMask": "masks", "BlockMask": "masks", "bits_in_blocks": "masks", "open_mask": "masks", "reach_disc": "masks", "LayerRaster": "raster", "RasterContours": "hierarchy", "rasterize": "raster", "layer_mask": "raster",
           "winding_numbers": "raster", "raster_hierarchy": "hierarchy", "draw_polylines": "raster", "RULES": "raster",
           "winding_blocks": "raster", "raster_blocks": "raster", "BLOCK": "raster", "BAND": "raster",
           "DistanceField": "distance", "signed_mask_distance": "distance", "distance_field": "distance",
@@ -59,7 +59,7 @@ _WHERE = {"PRINTERS": "printers", "FLAVORS": "printers", "resolve_settings": "pr
           "SKIN_COST": "schedule", "REPEAT_COST": "schedule", "layer_costs": "schedule", "costliest_first": "schedule"}
 
 
-__all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_config", "render_gcode", "MARLIN_START", "MARLIN_END", "GridMask", "BlockMask", "bits_in_blocks", "open_mask", "LayerRaster", "RasterContours", "rasterize", "layer_mask", "winding_numbers", "raster_hierarchy",
+__all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_config", "render_gcode", "MARLIN_START", "MARLIN_END", "GridMask", "BlockMask", "bits_in_blocks", "open_mask", "reach_disc", "LayerRaster", "RasterContours", "rasterize", "layer_mask", "winding_numbers", "raster_hierarchy",
            "draw_polylines", "RULES", "winding_blocks", "raster_blocks", "BLOCK", "BAND", "DistanceField", "signed_mask_distance", "distance_field", "level_rings",
            "level_polygons", "Perimeters", "layer_perimeters", "medial_fill", "mask_rings", "perimeter_depth",
            "perimeter_band", "split_by_mask", "disc", "uncovered_blocks", "medial_fill_blocks", "FillLines",

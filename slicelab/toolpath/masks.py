@@ -18,6 +18,7 @@ slicelab.toolpath.raster.rasterize : a layer's material as block masks.
 """
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -25,7 +26,8 @@ import numpy as np
 
 from ..geometry.blocks import EMPTY, FULL, BlockGrid
 
-__all__ = ["GridMask", "BlockMask", "bits_in_blocks", "dilate_mask", "near_mask", "open_mask", "pixels_in_boxes"]
+__all__ = ["GridMask", "BlockMask", "bits_in_blocks", "dilate_mask", "near_mask", "open_mask", "pixels_in_boxes",
+           "reach_disc"]
 
 
 class _Window:
@@ -364,6 +366,25 @@ def _as_blocks(grid, values: np.ndarray, row0: int, col0: int, shape, pixel_size
     table[on] = np.where(keep, 0, np.where(every, FULL, EMPTY))
     out = BlockGrid.from_status(grid.size, grid.row0, grid.col0, table == 0, table == FULL)
     return BlockMask(values[keep].view(bool), out, row0, col0, shape, pixel_size)
+
+
+@functools.lru_cache(maxsize=16)
+def reach_disc(reach: float, pixel_size: float, slack: float = 0.0) -> np.ndarray:
+    """The structuring element (uint8) of the pixel offsets a distance transform puts within
+    `reach` mm: those whose distance d (pixels, centre to centre, float32 as OpenCV's precise
+    transform gives it) has ``d * pixel_size - slack`` not above `reach`, computed as the
+    planner computes it from the transform. A mask dilated by it holds exactly the pixels whose
+    transform to the mask would not exceed the reach.
+
+    Examples
+    --------
+    >>> [row[1:6] for row in reach_disc(0.4, 0.2).tolist()[1:6]]   # two pixels: (0, 2) is in, (1, 2) is not
+    [[0, 0, 1, 0, 0], [0, 1, 1, 1, 0], [1, 1, 1, 1, 1], [0, 1, 1, 1, 0], [0, 0, 1, 0, 0]]
+    """
+    k = int(np.ceil((reach + slack) / pixel_size)) + 1
+    dy, dx = np.mgrid[-k:k + 1, -k:k + 1]
+    d = np.sqrt((dy * dy + dx * dx).astype(np.float32))
+    return (~(d * pixel_size - slack > reach)).astype(np.uint8)
 
 
 def dilate_mask(mask, kernel: np.ndarray):

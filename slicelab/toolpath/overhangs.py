@@ -30,7 +30,6 @@ References
 """
 from __future__ import annotations
 
-import functools
 import math
 from dataclasses import dataclass, replace
 
@@ -39,7 +38,7 @@ import numpy as np
 from ..geometry.blocks import FULL
 from ..geometry.polygons import loop_edges, signed_area
 from ..geometry.spatial import SegmentIndex
-from .masks import BlockMask, GridMask, dilate_mask, near_mask
+from .masks import BlockMask, GridMask, dilate_mask, near_mask, reach_disc
 
 __all__ = ["Bridge", "EDGE_MARGIN", "LayerOverhangs", "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS"]
 
@@ -117,24 +116,15 @@ def _crop(mask) -> tuple[int, int, tuple] | None:
             (int(rows[-1] - rows[0]) + 1, int(cols[-1] - cols[0]) + 1))
 
 
-@functools.lru_cache(maxsize=16)
-def _within(radius: float) -> np.ndarray:
-    """The structuring element of the pixel offsets within `radius` pixels (centre to centre)."""
-    k = int(radius)
-    yy, xx = np.mgrid[-k:k + 1, -k:k + 1]
-    return (yy * yy + xx * xx <= radius * radius).astype(np.uint8)
-
-
-def _hanging_window(below, diff, radius: float, hangs=None):
+def _hanging_window(below, diff, kernel: np.ndarray, hangs=None):
     """The window (row0, col0, shape) of the pixels of `diff` with no pixel of `below` within
-    `radius` pixels (centre to centre), or None if there are none; and the (rows, cols) of
-    those `hangs` says do not hang after all (or None).
+    the offsets of `kernel` (`slicelab.toolpath.masks.reach_disc`), or None if there are none;
+    and the (rows, cols) of those `hangs` says do not hang after all (or None).
 
     On block masks the test runs on the blocks of `diff` alone (`near_mask`): its cost follows
     the few blocks where the layers differ, not the layer. `hangs(xy)` (optional) tells from
     the pixels' centres (mm) which hang: an exact test, or None when it cannot say.
     """
-    kernel = _within(radius)
     if not (isinstance(diff, BlockMask) and isinstance(below, BlockMask) and diff.blocks.size == below.blocks.size):
         return _crop(GridMask(diff.mask & ~dilate_mask(below, kernel).window(diff.row0, diff.col0, diff.shape),
                               diff.row0, diff.col0, diff.pixel_size)), None
@@ -245,7 +235,7 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
             d = SegmentIndex(loop_edges(loops), 4 * p).within(xy, reach + 2 * p) if loops else None
             return None if d is None else d > reach
 
-    window, refuted = (_crop(diff), None) if below is None else _hanging_window(below, diff, reach / p + 0.5, hangs)
+    window, refuted = (_crop(diff), None) if below is None else _hanging_window(below, diff, reach_disc(reach, p, 0.5 * p), hangs)
     if window is None:
         return LayerOverhangs(mid_air=mid_air)
     margin = int(math.ceil(reach / p)) + 3

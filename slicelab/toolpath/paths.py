@@ -24,13 +24,12 @@ slicelab.toolpath.roles : the roles of the paths and how outputs name them.
 """
 from __future__ import annotations
 
-import functools
-
 import numpy as np
 
 from ..geometry.polygons import Polygon, points_in_ring, signed_area
 from ..geometry.spatial import SegmentIndex
 from .infill import line_spacing, rectilinear
+from .masks import reach_disc
 from .patterns import fill_pattern
 from .perimeters import Perimeters, layer_perimeters, level_polygons, medial_fill, perimeter_band, split_by_mask
 from .raster import GridMask, LayerRaster, draw_polylines, raster_blocks, rasterize
@@ -355,16 +354,6 @@ def _simplified(polygons: list, tolerance: float) -> list:
     return out
 
 
-@functools.lru_cache(maxsize=8)
-def _reach_disc(reach: float, pixel_size: float) -> np.ndarray:
-    """The pixel offsets within `reach` mm, centre to centre (uint8), measured as a float32
-    distance transform measures them: a dilation by it marks what the transform finds that near."""
-    k = int(np.ceil(reach / pixel_size)) + 1
-    dy, dx = np.mgrid[-k:k + 1, -k:k + 1]
-    d = np.sqrt((dy * dy + dx * dx).astype(np.float32))
-    return (~(d * pixel_size > reach)).astype(np.uint8)
-
-
 def _solid_gaps(per: Perimeters, fills: list, sparse: list, region: list):
     """Gap fill for what solid filling misses (slivers where its lines run nearly parallel).
 
@@ -402,7 +391,7 @@ def _solid_gaps(per: Perimeters, fills: list, sparse: list, region: list):
             # The sparse region drawn on blocks along its boundary (the cost follows it), then
             # dilated by the disc of that reach: the pixels a distance transform would find within it.
             held = raster_blocks(edges, r0, c0, shape, p, band=0.0).window(r0, c0, shape)
-            uncovered &= ~cv2.dilate(held.view(np.uint8), _reach_disc(0.5 * w + p, p)).view(bool)
+            uncovered &= ~cv2.dilate(held.view(np.uint8), reach_disc(0.5 * w + p, p)).view(bool)
         # Only the region's box, widened by what its lines' ends reach: there the distance to the
         # sparse region is exact (the margin holds every sparse pixel that near).
         ir0, ir1, ic0, ic1 = box(int(np.ceil((0.5 * w + p) / p)))
