@@ -449,10 +449,12 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
 
     # Runs that start as an earlier one did (steady layers, the same outline): their first layers
     # are made once, here, for all of them (`make_starts`).
-    from .repeats import run_starts, start_candidates
+    from .repeats import outline_size, run_starts, start_candidates
+    size = [outline_size(sec) for sec in sections]  # over layers: their areas and boundaries, once
     reach = (s.bottom_layers + 1, s.top_layers)
     repeating = s.infill_pattern != "gyroid" or s.infill_density == 0
-    maybe = set(start_candidates(dict(enumerate(sections)), n, reach, tol, _RUN, _START)) if repeating else set()
+    maybe = set(start_candidates(dict(enumerate(sections)), n, reach, tol, _RUN, _START, size)) if repeating \
+        else set()
     alike, made = {}, {}
 
     def job(a, b, text=text, drawing=drawing):
@@ -465,7 +467,7 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
 
     def make_starts():
         if maybe:
-            alike.update(run_starts(dict(enumerate(sections)), n, reach, tol, _RUN, _START))
+            alike.update(run_starts(dict(enumerate(sections)), n, reach, tol, _RUN, _START, sorted(maybe)))
         for k0 in sorted(set(alike.values())):  # over the outlines of the steady stretches, few
             state = {}
             rows = _run_chunk(*job(k0, k0 + _START, None, None), state=state)
@@ -496,7 +498,7 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
         from .pool import forked_pool
         from .schedule import costliest_first
         bar = _bar(n, progress)
-        order = costliest_first(chunks, sections, s, tol)
+        order = costliest_first(chunks, sections, s, tol, size)
         with forked_pool(workers) as pool:
             # The runs that cannot start alike go first: the workers plan them while the others'
             # first layers are made here.

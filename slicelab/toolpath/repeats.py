@@ -291,10 +291,12 @@ class RunStart:
     below_solid: object = None
 
 
-def start_candidates(sections: dict, n: int, reach: tuple, tolerance: float, run: int, length: int) -> list:
+def start_candidates(sections: dict, n: int, reach: tuple, tolerance: float, run: int, length: int,
+                     size=None) -> list:
     """The run starts (multiples of `run` after the first) whose first `length` layers, and every
     layer their skins read, have the areas of the layers below them within `tolerance` mm: those
-    whose outlines `run_starts` compares (a cheap test, areas alone).
+    whose outlines `run_starts` compares (a cheap test, areas alone). `size` (optional) holds
+    each layer's `outline_size`, made here where needed if not given.
 
     Examples
     --------
@@ -305,7 +307,7 @@ def start_candidates(sections: dict, n: int, reach: tuple, tolerance: float, run
     [20, 40]
     """
     below, above = int(reach[0]), int(reach[1])
-    size = {}
+    size = {} if size is None else {j: size[j] for j in sections}
 
     def alike_by_area(j):  # layer j and the one below may have one outline (their areas say so)
         for i in (j - 1, j):
@@ -318,7 +320,8 @@ def start_candidates(sections: dict, n: int, reach: tuple, tolerance: float, run
             and all(alike_by_area(j) for j in range(k - below + 1, k + length + above))]
 
 
-def run_starts(sections: dict, n: int, reach: tuple, tolerance: float, run: int, length: int) -> dict:
+def run_starts(sections: dict, n: int, reach: tuple, tolerance: float, run: int, length: int,
+               candidates=None) -> dict:
     """The runs of layers that start alike: run start k -> the run start k0 whose first `length`
     layers it repeats (k0 -> k0 for the first of them).
 
@@ -327,7 +330,8 @@ def run_starts(sections: dict, n: int, reach: tuple, tolerance: float, run: int,
     first `length` layers are steady (`Repeats.steady`: no skin, no overhang) and have the
     outlines of those of an earlier such run, within `tolerance` mm, makes what that run made:
     the planner makes those layers once (`RunStart`), however the runs are grouped. Only the
-    `start_candidates` are compared, and only stretches that more than one run starts in count.
+    `start_candidates` are compared (`candidates`, if already known), and only stretches that
+    more than one run starts in count.
 
     Examples
     --------
@@ -338,7 +342,8 @@ def run_starts(sections: dict, n: int, reach: tuple, tolerance: float, run: int,
     {20: 20, 40: 20, 60: 20, 80: 20}
     """
     below, above = int(reach[0]), int(reach[1])
-    candidates = start_candidates(sections, n, reach, tolerance, run, length)
+    if candidates is None:
+        candidates = start_candidates(sections, n, reach, tolerance, run, length)
     near = {j for k in candidates for j in range(k - below, k + length + above)}
     r = Repeats({j: sections[j] for j in sorted(near)}, n, reach, tolerance)
     found, firsts = {}, []

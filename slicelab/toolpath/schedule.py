@@ -63,14 +63,16 @@ def layer_costs(sections: list, s: PrintSettings, size: list | None = None) -> t
 REPEAT_COST = 0.2
 
 
-def costliest_first(chunks: list, sections: list, s: PrintSettings, tolerance: float = 1e-9) -> list:
+def costliest_first(chunks: list, sections: list, s: PrintSettings, tolerance: float = 1e-9,
+                    size: list | None = None) -> list:
     """The runs of layers in the order to hand them out: the costliest first, so that no worker
     is left with a big one at the end while the others idle (longest processing time first).
 
     A layer's cost is taken as its boundary's length, as pixels are held only along the
     boundaries, plus `SKIN_COST` times its skin's area (`layer_costs`), times `REPEAT_COST`
     where it and every layer its skins read have the same area within `tolerance` (it likely
-    repeats the layer two below: `slicelab.toolpath.repeats.may_repeat`).
+    repeats the layer two below: `slicelab.toolpath.repeats.may_repeat`). `size` (optional)
+    holds each layer's `slicelab.toolpath.repeats.outline_size`.
 
     Examples
     --------
@@ -81,7 +83,7 @@ def costliest_first(chunks: list, sections: list, s: PrintSettings, tolerance: f
     [(20, 40), (0, 20)]
     """
     from .repeats import may_repeat, outline_size
-    size = [outline_size(sec) for sec in sections]  # over layers: area and boundary length, once
+    size = [outline_size(sec) for sec in sections] if size is None else size  # over layers: once
     length, skin = layer_costs(sections, s, size)
     alike = np.array([False] + [may_repeat(a, b, tolerance) for a, b in zip(size[1:], size[:-1])])  # over layers
     n, below, above = len(sections), s.bottom_layers, s.top_layers
