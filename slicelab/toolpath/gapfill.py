@@ -25,11 +25,9 @@ from ..geometry.blocks import BlockGrid
 from ..geometry.contours import trace_skeleton
 from ..geometry.graphs import thin
 from .masks import GridMask
+from .raster import BLOCK
 
 __all__ = ["disc", "medial_fill", "uncovered_blocks", "medial_fill_blocks"]
-
-#: Block size (pixels) `medial_fill` works in.
-_GAP_BLOCK = 32
 
 
 def disc(radius_px: float) -> np.ndarray:
@@ -85,8 +83,9 @@ def medial_fill(grid: GridMask, uncovered: np.ndarray, w: float, min_width: floa
 
     Returns the polylines (mm) and the extrusion width at each vertex (the
     local width of the uncovered part, between `min_width` and 1.5 w). The
-    pixels are worked on in the world-anchored blocks of 32 that hold some
-    (`medial_fill_blocks`), so the cost follows the gaps, not their box.
+    pixels are worked on in the world-anchored blocks of the layers' size
+    (`slicelab.toolpath.raster.BLOCK`) that hold some (`medial_fill_blocks`), so
+    the cost follows the gaps, not their box.
 
     See Also
     --------
@@ -111,7 +110,7 @@ def medial_fill(grid: GridMask, uncovered: np.ndarray, w: float, min_width: floa
         return [], []
     # Only the blocks that hold uncovered pixels are worked on (`medial_fill_blocks`, the same
     # polylines): a few slivers along a wide ring have a box of millions of pixels.
-    b = _GAP_BLOCK
+    b = BLOCK  # (the layers' block size)
     rows, cols = rows + grid.row0, cols + grid.col0
     br, bc = rows // b, cols // b
     b0r, b0c = int(br.min()), int(bc.min())
