@@ -1,6 +1,7 @@
 """Printer profiles, settings files, physical checks, start and end G-code."""
 from __future__ import annotations
 
+import re
 import subprocess
 import sys
 
@@ -18,10 +19,10 @@ def run(*args):
 
 
 @pytest.mark.parametrize("bad, words", [
-    (dict(layer_height=25.0), "layer_height 25 mm is more than 0.8 x the 0.4 mm nozzle"),
+    (dict(layer_height=0.5), "layer_height 0.5 mm is more than 0.8 x the 0.4 mm nozzle"),
     (dict(line_width=5.0), "line_width 5 mm is outside 0.6 to 2.5 x the 0.4 mm nozzle"),
     (dict(nozzle_temperature=1000), "nozzle_temperature 1000 C is outside what the printer allows"),
-    (dict(bed_temperature=-5), "bed_temperature -5 C is outside"),
+    (dict(bed_temperature=-5), "bed_temperature must be from 0 to 1000 C, got -5"),
     (dict(gcode_flavor="sailfish"), "gcode_flavor must be one of"),
 ])
 def test_settings_a_printer_cannot_take_are_refused(bad, words):
@@ -81,7 +82,7 @@ def test_cli_config_printer_and_print_config(tmp_path, data_dir):
     (tmp_path / "shown.toml").write_text(shown)
     again = PrintSettings(**read_config(tmp_path / "shown.toml"))
     assert again.infill_density == 0.35 and again.dont_support_bridges is False
-    for args, words in ((["--layer-height", "25"], "--layer-height 25 mm is more than"),
+    for args, words in ((["--layer-height", "0.5"], "--layer-height 0.5 mm is more than"),
                         (["--line-width", "5"], "--line-width 5 mm is outside"),
                         (["--nozzle-temperature", "1000"], "--nozzle-temperature 1000 C is outside"),
                         (["--printer", "nope"], "--printer must be one of")):
@@ -117,3 +118,79 @@ def test_settings_come_in_groups_and_files_keep_them(tmp_path):
             resolve_settings(config=f)
     with pytest.raises(TypeError, match="unknown settings"):
         PrintSettings(layer_hieght=0.2)
+
+
+@pytest.mark.parametrize("printer", [None, *PRINTERS])
+def test_the_header_holds_no_live_line_before_the_start_block(tmp_path, data_dir, printer):
+    # Every line of every setting written in the header is a comment: a multi-line start or end
+    # G-code among them would otherwise run, its placeholders unexpanded, before the real start.
+    out = tmp_path / "p.gcode"
+    args = ["--printer", printer] if printer else []
+    r = run("slice", data_dir / "cube_with_hole.stl", "-o", out, "--layer-height", "0.3", *args)
+    assert r.returncode == 0, r.stderr
+    lines = out.read_text().splitlines()
+    start = lines.index("; flavor = " + (PRINTERS[printer]["gcode_flavor"] if printer else "marlin"))
+    assert all(line.startswith(";") for line in lines[:start + 1])
+    live = [line.split(";")[0] for line in lines if line.split(";")[0].strip()]
+    assert not any("{" in line or "}" in line for line in live)
+    s = PrintSettings(**resolve_settings(printer=printer))
+    if s.start_gcode:
+        shown = next(line for line in lines if line.startswith("; start_gcode = "))
+        assert shown[len("; start_gcode = "):].replace("\\n", "\n") == s.start_gcode
+
+
+@pytest.mark.parametrize("template, words", [
+    ("M117 {layer_height.__class__}", "is not a placeholder"),
+    ("M117 {layer_height[0]}", "is not a placeholder"),
+    ("M117 {layer_height!r}", "is not a placeholder"),
+    ("M117 {layer_height:>100000000}", "short numeric"),
+    ("M117 {gcode_flavor}", "is not a numeric setting"),
+    ("M117 {nozzle_temp}", "is not a numeric setting"),
+    ("M117 {", "Single '{'"),
+    ("M104 S{nozzle_temperature:d}", "bad format"),
+    ("M117 x" * 20000, "characters long"),
+])
+def test_templates_that_reach_into_objects_or_grow_without_bound_are_refused(template, words):
+    with pytest.raises(ValueError, match=f"^start_gcode.*{re.escape(words)}"):
+        PrintSettings(start_gcode=template)
+    # ... and the same when it comes from a settings file, before any slicing
+    s = PrintSettings(start_gcode="M104 S{nozzle_temperature:.0f} ; {{literal}} {layer_height:5.2f}")
+    assert s.start_gcode.startswith("M104")
+
+
+@pytest.mark.parametrize("name, value, words", [
+    ("infill_angle", float("nan"), "infill_angle must be from -360 to 360 degrees, got nan"),
+    ("travel_speed", 1e308, "travel_speed must be above 0 and at most 1000 mm/s, got 1e+308"),
+    ("top_layers", 1_000_000_000, "top_layers must be a whole number from 0 to 100 layers"),
+    ("retraction_length", float("inf"), "retraction_length must be from 0 to 20 mm"),
+    ("n_perimeters", True, "n_perimeters must be a whole number"),
+    ("bed_size", (250.0, float("nan")), "bed_size must be 2 numbers, each above 0"),
+    ("seam_position", "random-ish", "seam_position must be one of aligned, rear, nearest"),
+    ("support_sheath", "yes", "support_sheath must be true or false"),
+    ("pixel_size", 0.001, "pixel_size must be from 0.005 to 10 mm"),
+])
+def test_every_number_is_finite_and_in_a_physical_range(tmp_path, data_dir, name, value, words):
+    with pytest.raises(ValueError, match="^" + re.escape(words)):
+        PrintSettings(**{name: value})
+    # The same refusal, one line with the key, from a settings file through the command line
+    # (TOML has nan and inf).
+    if isinstance(value, float) or (isinstance(value, int) and not isinstance(value, bool)):
+        f = tmp_path / "s.toml"
+        f.write_text(f"[settings]\n{name} = {value!r}\n".replace("1e+308", "1e308"))
+        r = run("slice", data_dir / "cube_with_hole.stl", "-o", tmp_path / "x.gcode", "--config", f)
+        assert r.returncode == 2 and r.stderr.count("\n") == 1, r.stderr
+        assert name.replace("_", "-") in r.stderr and "must be" in r.stderr
+        assert not (tmp_path / "x.gcode").exists()
+
+
+def test_a_settings_file_nested_too_deep_or_with_unknown_keys_is_one_line(tmp_path):
+    f = tmp_path / "deep.toml"
+    f.write_text("a = " + "[" * 5000 + "]" * 5000 + "\n")
+    with pytest.raises(ValueError, match="nested too deep"):
+        read_config(f)
+    f.write_text("speed = 3\n")
+    with pytest.raises(ValueError, match="speed is not a print setting"):
+        read_config(f)
+    f.write_text("x" * (2 << 20))
+    with pytest.raises(ValueError, match="is not a settings file"):
+        read_config(f)

@@ -27,6 +27,9 @@ from pathlib import Path
 
 __all__ = ["PRINTERS", "FLAVORS", "MARLIN_START", "MARLIN_END", "resolve_settings", "read_config", "format_config", "render_gcode"]
 
+#: The largest settings file read (bytes): a settings file is a page of text.
+CONFIG_LIMIT = 1 << 20
+
 #: G-code dialects; each reads the same moves, they differ in the start and end blocks.
 FLAVORS = ("marlin", "klipper", "reprapfirmware")
 
@@ -68,14 +71,21 @@ def read_config(path) -> dict:
     """
     p = Path(path)
     try:
+        if p.stat().st_size > CONFIG_LIMIT:
+            raise ValueError(f"{p}: {p.stat().st_size} bytes is not a settings file (at most {CONFIG_LIMIT})")
         data = tomllib.loads(p.read_text(encoding="utf-8"))
     except OSError as exc:
         raise ValueError(f"{p}: cannot be read ({exc.strerror or exc})") from None
     except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise ValueError(f"{p}: not a TOML settings file ({exc})") from None
+        raise ValueError(f"{p}: not a TOML settings file ({str(exc).splitlines()[0]})") from None
+    except RecursionError:  # tomllib reads nested arrays and tables by recursion
+        raise ValueError(f"{p}: not a settings file (arrays or tables nested too deep)") from None
     from .settings import GROUPS, setting_names
     out = {k: v for k, v in data.items() if not isinstance(v, dict)}
     known = set(setting_names())
+    for k in out:
+        if k != "printer" and k not in known:
+            raise ValueError(f"{p}: {k} is not a print setting")
     for table, values in data.items():
         if not isinstance(values, dict):
             continue
@@ -148,8 +158,12 @@ def format_config(settings) -> str:
     return "\n".join(lines)
 
 
-def render_gcode(template: str, settings) -> str:
+def render_gcode(template: str, settings, name: str = "start_gcode / end_gcode") -> str:
     """A start or end G-code template with the settings' ``{placeholders}`` filled in.
+
+    Only the numeric settings (`slicelab.toolpath.settings.template_names`) can be named, as
+    ``{setting}`` or ``{setting:spec}``; `slicelab.toolpath.fields.check_template` refuses anything
+    else when the settings are made.
 
     Examples
     --------
@@ -157,11 +171,12 @@ def render_gcode(template: str, settings) -> str:
     >>> render_gcode("M190 S{bed_temperature:.0f} ; {bed_size_x:g} mm\\n", PrintSettings())
     'M190 S60 ; 250 mm\\n'
     """
-    from .settings import settings_dict
-    fields = settings_dict(settings)
+    from .settings import settings_dict, template_names
+    allowed = template_names()
+    fields = {k: v for k, v in settings_dict(settings).items() if k in allowed}
     fields["bed_size_x"], fields["bed_size_y"] = settings.bed_size
     try:
         text = template.format(**fields)
-    except (KeyError, IndexError, ValueError) as exc:
-        raise ValueError(f"start_gcode / end_gcode: unknown placeholder or bad format ({exc})") from None
+    except (KeyError, IndexError, ValueError, AttributeError, TypeError) as exc:
+        raise ValueError(f"{name}: unknown placeholder or bad format ({exc})") from None
     return text if text.endswith("\n") or not text else text + "\n"

@@ -21,65 +21,87 @@ from __future__ import annotations
 import math
 from dataclasses import asdict, dataclass, fields, replace
 
-import numpy as np
+from .fields import check_fields, check_template, setting
 
 __all__ = ["Extrusion", "Walls", "Infill", "Skins", "Supports", "Motion", "Cooling", "Adhesion", "Machine", "Raster", "GROUPS",
-           "PrintSettings", "settings_dict", "setting_names"]
+           "PrintSettings", "settings_dict", "setting_names", "template_names"]
+
+
+def _patterns() -> tuple:
+    from .patterns import PATTERNS
+    return tuple(sorted(PATTERNS))
+
+
+def _flavors() -> tuple:
+    from .printers import FLAVORS
+    return FLAVORS
+
+
+class _Group:
+    """What every settings group does when made: check each field against its declaration
+    (`slicelab.toolpath.fields.check_field`)."""
+
+    def __post_init__(self):
+        check_fields(self)
 
 
 @dataclass(frozen=True)
-class Extrusion:
+class Extrusion(_Group):
     """Layers and lines: heights, line width, perimeters, nozzle and filament (mm), the flow
     multiplier (and its share for bridge lines), and `gcode_resolution`, the tolerance every path
     is simplified to (PrusaSlicer's)."""
 
-    layer_height: float = 0.2
-    first_layer_height: float = 0.2
-    line_width: float = 0.4
-    n_perimeters: int = 2
-    nozzle_diameter: float = 0.4
-    filament_diameter: float = 1.75
-    extrusion_multiplier: float = 1.0
-    gcode_resolution: float = 0.0125
-    bridge_flow_ratio: float = 1.0
+    layer_height: float = setting(0.2, "height of every layer but the first", "mm", 0.01, 2.0)
+    first_layer_height: float = setting(0.2, "height of the first layer", "mm", 0.01, 2.0)
+    line_width: float = setting(0.4, "extrusion width of every line", "mm", 0.05, 10.0)
+    n_perimeters: int = setting(2, "perimeters around every island", "", 0, 50)
+    nozzle_diameter: float = setting(0.4, "the nozzle's bore", "mm", 0.05, 5.0)
+    filament_diameter: float = setting(1.75, "diameter of the filament", "mm", 0.5, 5.0)
+    extrusion_multiplier: float = setting(1.0, "flow of every line, against the computed flow", "", 0.05, 5.0)
+    gcode_resolution: float = setting(0.0125, "every path simplified to this tolerance", "mm", 0.0, 1.0)
+    bridge_flow_ratio: float = setting(1.0, "flow of bridge lines, against other lines'", "", 0.05, 5.0)
 
 
 @dataclass(frozen=True)
-class Walls:
+class Walls(_Group):
     """Perimeter loops: where each starts (`seam_position`: ``"aligned"`` with the layer below,
     ``"rear"`` or ``"nearest"`` the nozzle) and whether an island's outer perimeter goes first
     (by default the innermost goes first and the outer one last)."""
 
-    seam_position: str = "aligned"
-    external_perimeters_first: bool = False
+    seam_position: str = setting("aligned", "where perimeter loops start", choices=("aligned", "rear", "nearest"))
+    external_perimeters_first: bool = setting(False, "print each island's outer perimeter before the inner ones")
 
 
 @dataclass(frozen=True)
-class Infill:
+class Infill(_Group):
     """Sparse filling: density (a fraction), angle (degrees), a pattern of
     `slicelab.toolpath.patterns.PATTERNS`, and its overlap with the perimeters (line widths)."""
 
-    infill_density: float = 0.2
-    infill_angle: float = 45.0
-    infill_pattern: str = "rectilinear"
-    infill_overlap: float = 0.15
+    infill_density: float = setting(0.2, "sparse infill density, a fraction", "", 0.0, 1.0)
+    infill_angle: float = setting(45.0, "direction of the infill lines, turned 90 degrees every layer",
+                                  "degrees", -360.0, 360.0)
+    infill_pattern: str = setting("rectilinear", "sparse infill pattern", choices=_patterns)
+    infill_overlap: float = setting(0.15, "overlap of the infill with the perimeters, in line widths", "",
+                                    0.0, 1.0)
 
 
 @dataclass(frozen=True)
-class Skins:
+class Skins(_Group):
     """Solid skins: how many layers at the top and bottom, and their angle (None: the infill's,
     turned 90 degrees every layer); the overhang angle from the vertical (degrees) up to which a
     wall holds itself (`slicelab.toolpath.overhangs`): beyond it, material over nothing is a bridge
     when held on two sides (or on one, `Supports.dont_support_bridges`), else unheld."""
 
-    top_layers: int = 3
-    bottom_layers: int = 3
-    solid_angle: float | None = None
-    overhang_threshold: float = 50.0
+    top_layers: int = setting(3, "solid layers under every top surface", "layers", 0, 100)
+    bottom_layers: int = setting(3, "solid layers over every bottom surface", "layers", 0, 100)
+    solid_angle: float | None = setting(None, "direction of solid lines (left out: the infill's)", "degrees",
+                                        -360.0, 360.0, optional=True, kind=float)
+    overhang_threshold: float = setting(50.0, "steepest wall, from the vertical, that holds itself", "degrees",
+                                        0.0, 90.0, above=True, below=True)
 
 
 @dataclass(frozen=True)
-class Supports:
+class Supports(_Group):
     """Support material (`slicelab.toolpath.supports`): `support` is ``"off"``, ``"auto"``
     (under every unheld overhang, standing on the bed or the part) or ``"bed"`` (only where a
     column reaches the bed); sparse lines with a gap of `support_spacing` between them (so a
@@ -93,89 +115,101 @@ class Supports:
     way. `support_sheath` (PrusaSlicer's default too) puts a loop around each region of sparse
     support, so that a narrow band stands."""
 
-    support: str = "off"
-    support_spacing: float = 2.5
-    support_interface_spacing: float = 0.2
-    support_interface_layers: int = 2
-    support_xy_gap: float = 0.6
-    support_z_gap_layers: int = 1
-    dont_support_bridges: bool = True
-    support_sheath: bool = True
+    support: str = setting("off", "support material under overhangs and mid-air islands",
+                           choices=("off", "auto", "bed"))
+    support_spacing: float = setting(2.5, "gap between sparse support lines", "mm", 0.0, 50.0, above=True)
+    support_interface_spacing: float = setting(0.2, "gap between interface lines", "mm", 0.0, 50.0, above=True)
+    support_interface_layers: int = setting(2, "dense layers on top of the support", "layers", 0, 20)
+    support_xy_gap: float = setting(0.6, "gap between the support and the part beside it", "mm", 0.0, 20.0)
+    support_z_gap_layers: int = setting(1, "layers left empty between the support and the part over it",
+                                        "layers", 0, 10)
+    dont_support_bridges: bool = setting(True, "bridge what the layer below holds on one side only")
+    support_sheath: bool = setting(True, "a loop around each region of sparse support")
+
+
+def _speed(default: float, help: str):
+    return setting(default, help, "mm/s", 0.0, 1000.0, above=True)
 
 
 @dataclass(frozen=True)
-class Motion:
+class Motion(_Group):
     """Speeds by extrusion kind and for travel (mm/s), retraction and lift (mm), and the
     acceleration (mm/s^2) and jerk (mm/s) of the print-time estimate. Perimeter loops shorter
     than a 6.5 mm circle (PrusaSlicer's small perimeters) print at `small_perimeter_speed`, so that
     a small feature has time to cool."""
 
-    perimeter_speed: float = 40.0
-    external_perimeter_speed: float = 25.0
-    infill_speed: float = 80.0
-    solid_infill_speed: float = 60.0
-    top_solid_infill_speed: float = 40.0
-    bridge_speed: float = 25.0
-    small_perimeter_speed: float = 15.0
-    support_speed: float = 50.0
-    gap_fill_speed: float = 20.0
-    first_layer_speed: float = 20.0
-    travel_speed: float = 150.0
-    retraction_length: float = 0.8
-    retraction_speed: float = 35.0
-    retract_min_travel: float = 1.0
-    z_lift: float = 0.2
-    acceleration: float = 1000.0
-    jerk: float = 8.0
+    perimeter_speed: float = _speed(40.0, "speed of inner perimeters")
+    external_perimeter_speed: float = _speed(25.0, "speed of outer perimeters")
+    infill_speed: float = _speed(80.0, "speed of sparse infill")
+    solid_infill_speed: float = _speed(60.0, "speed of solid infill")
+    top_solid_infill_speed: float = _speed(40.0, "speed of top solid infill")
+    bridge_speed: float = _speed(25.0, "speed of bridge lines")
+    small_perimeter_speed: float = _speed(15.0, "speed of perimeter loops shorter than a 6.5 mm circle")
+    support_speed: float = _speed(50.0, "speed of support lines")
+    gap_fill_speed: float = _speed(20.0, "speed of gap fill")
+    first_layer_speed: float = _speed(20.0, "speed of every line of the first layer")
+    travel_speed: float = _speed(150.0, "speed of moves without extrusion")
+    retraction_length: float = setting(0.8, "filament pulled back before a travel", "mm", 0.0, 20.0)
+    retraction_speed: float = setting(35.0, "speed of retraction", "mm/s", 0.0, 500.0, above=True)
+    retract_min_travel: float = setting(1.0, "shortest travel that retracts", "mm", 0.0, 1000.0)
+    z_lift: float = setting(0.2, "nozzle lift on retracted travels", "mm", 0.0, 20.0)
+    acceleration: float = setting(1000.0, "acceleration, for the print-time estimate", "mm/s2", 0.0, 100000.0,
+                                  above=True)
+    jerk: float = setting(8.0, "jerk, for the print-time estimate", "mm/s", 0.0, 1000.0, above=True)
 
 
 @dataclass(frozen=True)
-class Cooling:
+class Cooling(_Group):
     """Temperatures (degrees Celsius) and cooling: the part-cooling fan is off for the first
     `fan_off_layers` layers, then at `fan_speed` percent, raised towards full for layers that
     print in less than `fan_below_layer_time` seconds; a layer quicker than `min_layer_time`
     is slowed to last that long (speeds not below `min_print_speed`, mm/s)."""
 
-    nozzle_temperature: float = 210.0
-    bed_temperature: float = 60.0
-    fan_speed: float = 100.0
-    fan_off_layers: int = 1
-    fan_below_layer_time: float = 60.0
-    min_layer_time: float = 5.0
-    min_print_speed: float = 10.0
+    nozzle_temperature: float = setting(210.0, "nozzle temperature", "C", 0.0, 1000.0)
+    bed_temperature: float = setting(60.0, "bed temperature", "C", 0.0, 1000.0)
+    fan_speed: float = setting(100.0, "part-cooling fan after the first layers", "%", 0.0, 100.0)
+    fan_off_layers: int = setting(1, "first layers printed with the fan off", "layers", 0, 100000)
+    fan_below_layer_time: float = setting(60.0, "a layer quicker than this gets more fan", "s", 0.0, 3600.0)
+    min_layer_time: float = setting(5.0, "a quicker layer is slowed to last this long", "s", 0.0, 3600.0)
+    min_print_speed: float = _speed(10.0, "the slowest a layer is slowed to")
 
 
 @dataclass(frozen=True)
-class Adhesion:
+class Adhesion(_Group):
     """Around the first layer: `skirt_loops` loops `skirt_distance` away, and a brim
     `brim_width` wide (mm; 0: none)."""
 
-    skirt_loops: int = 1
-    skirt_distance: float = 6.0
-    brim_width: float = 0.0
+    skirt_loops: int = setting(1, "loops around the first layer; 0: no skirt", "", 0, 100)
+    skirt_distance: float = setting(6.0, "gap between the skirt and the part", "mm", 0.0, 100.0)
+    brim_width: float = setting(0.0, "brim around the first layer; 0: none", "mm", 0.0, 100.0)
 
 
 @dataclass(frozen=True)
-class Machine:
+class Machine(_Group):
     """The printer: bed (size and the centre the part goes to, mm), height, G-code flavour,
     start and end G-code templates (None: the flavour's), and the limits it sets: temperatures,
     layer height at most `max_layer_ratio` x the nozzle, line width within `line_width_ratio`
     (low, high) x the nozzle."""
 
-    bed_size: tuple = (250.0, 210.0)
-    max_height: float = 210.0
-    bed_center: tuple | None = None
-    gcode_flavor: str = "marlin"
-    start_gcode: str | None = None
-    end_gcode: str | None = None
-    max_nozzle_temperature: float = 300.0
-    max_bed_temperature: float = 120.0
-    max_layer_ratio: float = 0.8
-    line_width_ratio: tuple = (0.6, 2.5)
+    bed_size: tuple = setting((250.0, 210.0), "the bed (x, y)", "mm", 0.0, 10000.0, above=True, size=2)
+    max_height: float = setting(210.0, "the printer's build height", "mm", 0.0, 10000.0, above=True)
+    bed_center: tuple | None = setting(None, "where the part's footprint is centred on the bed (x, y)", "mm",
+                                       0.0, 10000.0, size=2, optional=True, kind=float)
+    gcode_flavor: str = setting("marlin", "the firmware's G-code dialect", choices=_flavors)
+    start_gcode: str | None = setting(None, "G-code before the print ({setting} placeholders)", optional=True,
+                                      kind=str)
+    end_gcode: str | None = setting(None, "G-code after the print ({setting} placeholders)", optional=True,
+                                    kind=str)
+    max_nozzle_temperature: float = setting(300.0, "the hottest the nozzle may be set", "C", 0.0, 500.0,
+                                            above=True)
+    max_bed_temperature: float = setting(120.0, "the hottest the bed may be set", "C", 0.0, 200.0, above=True)
+    max_layer_ratio: float = setting(0.8, "the thickest layer, against the nozzle", "", 0.0, 1.5, above=True)
+    line_width_ratio: tuple = setting((0.6, 2.5), "the narrowest and widest line, against the nozzle", "",
+                                      0.0, 10.0, above=True, size=2)
 
 
 @dataclass(frozen=True)
-class Raster:
+class Raster(_Group):
     """The layers' pixel grid: pixel size (mm) and the fill rule for overlapping shells.
 
     The perimeters are moved onto the exact offsets of the section whatever
@@ -184,8 +218,9 @@ class Raster:
     width (0.2 mm for 0.4 mm lines); it may not be coarser than the line width.
     """
 
-    pixel_size: float | None = None
-    rule: str = "nonzero"
+    pixel_size: float | None = setting(None, "pixel grid of the layers (left out: half the line width)", "mm",
+                                       0.005, 10.0, optional=True, kind=float)
+    rule: str = setting("nonzero", "fill rule for overlapping shells", choices=("nonzero", "evenodd"))
 
 
 #: The groups of `PrintSettings`, by attribute name.
@@ -233,7 +268,7 @@ class PrintSettings:
     >>> PrintSettings(fan_speed=120)
     Traceback (most recent call last):
     ...
-    ValueError: fan_speed must be a percentage from 0 to 100, got 120
+    ValueError: fan_speed must be from 0 to 100 %, got 120
     """
 
     extrusion: Extrusion
@@ -271,88 +306,33 @@ class PrintSettings:
             return self.line_width / 2
         return value
 
-    def _set(self, name: str, value) -> None:
-        """Normalise a field while validating (its group replaced, never changed in place)."""
-        group = _GROUP_OF[name]
-        object.__setattr__(self, group, replace(object.__getattribute__(self, group), **{name: value}))
-
     def _validate(self) -> None:
-        from .patterns import PATTERNS
-        positive = ("layer_height", "first_layer_height", "line_width", "nozzle_diameter", "filament_diameter",
-                    "extrusion_multiplier", "perimeter_speed", "external_perimeter_speed", "infill_speed",
-                    "solid_infill_speed", "top_solid_infill_speed", "bridge_speed", "small_perimeter_speed", "bridge_flow_ratio", "gap_fill_speed", "first_layer_speed", "travel_speed",
-                    "retraction_speed", "min_print_speed", "support_speed", "support_spacing",
-                    "support_interface_spacing", "pixel_size", "acceleration", "jerk", "max_height")
-        for name in positive:
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and v > 0 and math.isfinite(v)):
-                raise ValueError(f"{name} must be a positive number, got {v!r}")
-        for name in ("n_perimeters", "top_layers", "bottom_layers", "fan_off_layers", "skirt_loops",
-                     "support_interface_layers", "support_z_gap_layers"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, np.integer)) and v >= 0):
-                raise ValueError(f"{name} must be a whole number >= 0, got {v!r}")
-        if not 0 <= self.infill_density <= 1:
-            raise ValueError(f"infill_density must be in [0, 1], got {self.infill_density!r}")
-        if not (isinstance(self.overhang_threshold, (int, float)) and 0 < self.overhang_threshold < 90):
-            raise ValueError(f"overhang_threshold must be an angle from the vertical between 0 and 90 degrees, "
-                             f"got {self.overhang_threshold!r}")
-        for name in ("retraction_length", "retract_min_travel", "z_lift", "skirt_distance", "brim_width",
-                     "fan_below_layer_time", "min_layer_time", "support_xy_gap"):
-            v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and v >= 0 and math.isfinite(v)):
-                raise ValueError(f"{name} must be a number >= 0, got {v!r}")
+        """What no group can check alone (each checked its own fields when made): sizes against the
+        line width and the nozzle, temperatures against the printer, the start and end G-code."""
         if self.pixel_size > self.line_width:
             raise ValueError(f"pixel_size must be at most the line width ({self.line_width:g} mm), "
                              f"got {self.pixel_size!r}")
-        if not (isinstance(self.gcode_resolution, (int, float)) and 0 <= self.gcode_resolution < self.line_width):
-            raise ValueError(f"gcode_resolution must be >= 0 and under the line width ({self.line_width:g} mm), "
+        if not self.gcode_resolution < self.line_width:
+            raise ValueError(f"gcode_resolution must be under the line width ({self.line_width:g} mm), "
                              f"got {self.gcode_resolution!r}")
-        if not (isinstance(self.fan_speed, (int, float)) and 0 <= self.fan_speed <= 100):
-            raise ValueError(f"fan_speed must be a percentage from 0 to 100, got {self.fan_speed!r}")
-        if self.support not in ("off", "auto", "bed"):
-            raise ValueError(f"support must be off, auto or bed, got {self.support!r}")
-        if self.seam_position not in ("nearest", "rear", "aligned"):
-            raise ValueError(f"seam_position must be nearest, rear or aligned, got {self.seam_position!r}")
-        for name in ("external_perimeters_first", "dont_support_bridges", "support_sheath"):
-            if not isinstance(getattr(self, name), (bool, np.bool_)):
-                raise ValueError(f"{name} must be true or false, got {getattr(self, name)!r}")
-        if self.rule not in ("nonzero", "evenodd"):
-            raise ValueError(f"rule must be 'nonzero' or 'evenodd', got {self.rule!r}")
-        if self.infill_pattern not in PATTERNS:
-            raise ValueError(f"infill_pattern must be one of {', '.join(sorted(PATTERNS))}, "
-                             f"got {self.infill_pattern!r}")
-        for name in ("bed_size", "bed_center"):
-            v = getattr(self, name)
-            if v is None and name == "bed_center":
-                continue
-            try:
-                ok = len(v) == 2 and all(math.isfinite(float(x)) for x in v)
-            except (TypeError, ValueError):
-                ok = False
-            if not ok or (name == "bed_size" and min(float(x) for x in v) <= 0):
-                raise ValueError(f"{name} must be two {'positive ' if name == 'bed_size' else ''}numbers "
-                                 f"(x, y in mm), got {v!r}")
-            self._set(name, tuple(float(x) for x in v))
         self._check_physical()
         cx, cy = self.centre
         if not (0 <= cx <= self.bed_size[0] and 0 <= cy <= self.bed_size[1]):
             raise ValueError(f"bed_center ({cx:g}, {cy:g}) must lie on the bed "
                              f"(0 to {self.bed_size[0]:g}, 0 to {self.bed_size[1]:g} mm)")
+        from .printers import render_gcode
+        numbers = template_names()
+        for name in ("start_gcode", "end_gcode"):
+            template = getattr(self, name)
+            check_template(name, template, numbers)
+            if template is not None:
+                render_gcode(template, self, name=name)  # a format that does not fit its value ({x:d})
 
     def _check_physical(self) -> None:
         """What the printer and the nozzle allow (one sentence per refusal, naming the field)."""
-        from .printers import FLAVORS
-        try:
-            ratio = tuple(float(v) for v in self.line_width_ratio)
-        except (TypeError, ValueError):
-            ratio = ()
-        if len(ratio) != 2 or not 0 < ratio[0] <= ratio[1]:
+        low, high = self.line_width_ratio
+        if not low <= high:
             raise ValueError(f"line_width_ratio must be two numbers 0 < low <= high, got {self.line_width_ratio!r}")
-        self._set("line_width_ratio", ratio)
-        if self.gcode_flavor not in FLAVORS:
-            raise ValueError(f"gcode_flavor must be one of {', '.join(FLAVORS)}, got {self.gcode_flavor!r}")
-        low, high = (float(v) for v in self.line_width_ratio)
         d = self.nozzle_diameter
         for name in ("layer_height", "first_layer_height"):
             v = getattr(self, name)
@@ -365,9 +345,8 @@ class PrintSettings:
         for name, limit in (("nozzle_temperature", self.max_nozzle_temperature),
                             ("bed_temperature", self.max_bed_temperature)):
             v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and 0 <= v <= limit):
-                raise ValueError(f"{name} {v:g} C is outside what the printer allows (0 to {limit:g} C)"
-                                 if isinstance(v, (int, float)) else f"{name} must be a number, got {v!r}")
+            if v > limit:
+                raise ValueError(f"{name} {v:g} C is outside what the printer allows (0 to {limit:g} C)")
 
     @property
     def centre(self) -> tuple:
@@ -379,6 +358,21 @@ class PrintSettings:
     def filament_area(self) -> float:
         """Cross-section of the filament (mm^2)."""
         return math.pi * (self.filament_diameter / 2) ** 2
+
+
+def template_names() -> frozenset:
+    """The settings a start or end G-code template may name: every single number, and the bed's
+    ``bed_size_x`` and ``bed_size_y``.
+
+    Examples
+    --------
+    >>> names = template_names()
+    >>> "nozzle_temperature" in names, "bed_size_x" in names, "gcode_flavor" in names
+    (True, True, False)
+    """
+    single = {f.name for cls in GROUPS.values() for f in fields(cls)
+              if f.metadata["kind"] in (int, float) and not f.metadata["size"]}
+    return frozenset(single | {"bed_size_x", "bed_size_y"})
 
 
 def settings_dict(s: PrintSettings) -> dict:
