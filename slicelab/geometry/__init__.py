@@ -11,6 +11,7 @@
 ``geometry.spatial``        segments cut into pieces, exact nearest distances to segments
 ``geometry.blocks``         square blocks of a pixel grid: held near a boundary, packed with halos
 ``geometry.graphs``         connected components of graphs, thinning pixel sets to skeletons
+``geometry.regions``        valid shapely regions, overlays that snap-round rather than fail
 ``geometry.march_kernels``  compiled marching squares over blocks, and chaining segments into rings
 ``geometry.slice_kernels``  compiled cut of every facet/plane pair of a mesh's layers
 ``geometry.kernels``        compiled loops of the layer hot paths (numba), loaded on first use
@@ -43,9 +44,11 @@ _MARCH_KERNELS = ("march_cells", "closed_cycles")
 _SEGMENT_KERNELS = ("nearest_in_buckets", "band_distances", "cut_at_crossings", "winding_at", "douglas_peucker",
                     "mark_blocks_near", "row_crossings", "bucket_boxes")
 _SLICE_KERNELS = ("cut_planes",)
+_REGIONS = ("valid_region", "overlay", "SNAP_GRID")  # shapely, loaded on first use
 __getattr__, __dir__ = attach(__name__, {**{name: "kernels" for name in _KERNELS},
                                          **{name: "march_kernels" for name in _MARCH_KERNELS},
                                          **{name: "slice_kernels" for name in _SLICE_KERNELS},
+                                         **{name: "regions" for name in _REGIONS},
                                          **{name: "segment_kernels" for name in _SEGMENT_KERNELS}}, globals())
 
-__all__ = ["Frame", "NEXT_CORNER", "crossing_edges", "edge_points", "plane_distances", "exact_ids", "weld", "edge_table", "shells", "EdgeCounts", "edge_counts", "manifold_summary", "Chains", "chain_segments", "join_open_chains", "signed_area", "loop_edges", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons", "edge_cross", "winding_normals", "triangle_areas", "group_starts", "within_group", "expand_ranges", "graph_components", "thin", "thinning_table", "GUO_HALL", "crossed_cells", "march", "march_blocks", "simplify_ring", "skeleton_neighbours", "trace_skeleton", "split_segments", "join_collinear", "simplify_chains", "SegmentIndex", "EMPTY", "FULL", "BlockGrid", "blocks_near", *_KERNELS, *_MARCH_KERNELS, *_SEGMENT_KERNELS, *_SLICE_KERNELS]
+__all__ = ["Frame", "NEXT_CORNER", "crossing_edges", "edge_points", "plane_distances", "exact_ids", "weld", "edge_table", "shells", "EdgeCounts", "edge_counts", "manifold_summary", "Chains", "chain_segments", "join_open_chains", "signed_area", "loop_edges", "points_in_ring", "loop_hierarchy", "Polygon", "build_polygons", "edge_cross", "winding_normals", "triangle_areas", "group_starts", "within_group", "expand_ranges", "graph_components", "thin", "thinning_table", "GUO_HALL", "crossed_cells", "march", "march_blocks", "simplify_ring", "skeleton_neighbours", "trace_skeleton", "split_segments", "join_collinear", "simplify_chains", "SegmentIndex", "EMPTY", "FULL", "BlockGrid", "blocks_near", *_KERNELS, *_MARCH_KERNELS, *_SEGMENT_KERNELS, *_SLICE_KERNELS, *_REGIONS]

@@ -35,6 +35,7 @@ import math
 import numpy as np
 
 from ..geometry.polygons import Polygon
+from ..geometry.regions import overlay, valid_region
 from .infill import rectilinear
 
 __all__ = ["PATTERNS", "fill_pattern", "concentric", "gyroid", "GYROID_LENGTH"]
@@ -46,8 +47,7 @@ GYROID_LENGTH = 0.3916
 
 def _shapely_region(polygons: list[Polygon]):
     import shapely
-    polys = [shapely.Polygon(p.exterior, p.holes) for p in polygons if len(p.exterior) >= 3]
-    return shapely.make_valid(shapely.MultiPolygon(polys)) if polys else shapely.MultiPolygon()
+    return valid_region([shapely.Polygon(p.exterior, p.holes) for p in polygons if len(p.exterior) >= 3])
 
 
 def _lines_of(geom) -> list[np.ndarray]:
@@ -164,7 +164,7 @@ def gyroid(polygons: list[Polygon], spacing: float, angle: float = 0.0, *, layer
         curves.append(np.vstack([xy, xy[:1]]))
     if not curves:
         return []
-    clipped = shapely.line_merge(shapely.intersection(shapely.MultiLineString(curves), region))
+    clipped = shapely.line_merge(overlay(shapely.intersection, shapely.MultiLineString(curves), region))
     return [q for q in _lines_of(clipped) if len(q) >= 2]
 
 

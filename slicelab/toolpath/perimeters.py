@@ -30,6 +30,7 @@ import numpy as np
 
 from ..geometry.contours import march, march_blocks
 from ..geometry.polygons import Polygon, build_polygons, loop_hierarchy, points_in_ring, signed_area
+from ..geometry.regions import overlay, valid_region
 from ..geometry.spatial import SegmentIndex
 from .distance import distance_field, level_rings
 from .gapfill import disc, medial_fill, medial_fill_blocks, uncovered_blocks
@@ -261,21 +262,16 @@ def split_by_mask(polygons: list[Polygon], mask, min_area: float = 0.0) -> tuple
     import shapely
     if not polygons:
         return [], []
-
-    def merged(parts):
-        # The polygons of one level are disjoint: together they are one valid shape, unless
-        # simplification made two of them touch (then shapely merges them).
-        shape = shapely.MultiPolygon(parts)
-        return shape if shapely.is_valid(shape) else shapely.union_all(shapely.get_parts(shape))
-
-    region = merged([shapely.Polygon(q.exterior, q.holes) for q in polygons])
+    # The polygons of one level are disjoint, and so are a mask's: each side is one valid shape,
+    # unless simplification made two of them touch or a ring pinch (`valid_region` mends that).
+    walls = valid_region([shapely.Polygon(q.exterior, q.holes) for q in polygons])
     rings = _mask_rings(mask)
-    cut = merged(_mask_polygons(rings)) if rings else shapely.MultiPolygon()
+    cut = valid_region(_mask_polygons(rings)) if rings else shapely.MultiPolygon()
 
     def keep(geometry):
         return [r for r in _rings_of(geometry) if abs(signed_area(r)) >= min_area]
 
-    return keep(region.intersection(cut)), keep(region.difference(cut))
+    return keep(overlay(shapely.intersection, walls, cut)), keep(overlay(shapely.difference, walls, cut))
 
 
 def _opened(field, level: float, radius: float) -> np.ndarray:

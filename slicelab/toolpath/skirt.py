@@ -20,6 +20,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..geometry.regions import valid_region
+
 __all__ = ["skirt_loops", "skirt_margin", "with_skirt"]
 
 
@@ -97,10 +99,7 @@ def skirt_loops(section, line_width: float = 0.4, *, loops: int = 1, distance: f
     if not len(polys) or (loops <= 0 and brim_width <= 0):
         return [], []
     # A self-intersecting mesh has outer loops that cross themselves: GEOS unites only valid shapes.
-    bad = ~shapely.is_valid(polys)
-    if bad.any():
-        polys[bad] = shapely.make_valid(polys[bad])
-    outline = shapely.union_all(polys)
+    outline = valid_region(polys)
     n_brim = _brim_count(w, brim_width)
     offsets = [(0.5 + i) * w for i in range(n_brim)][::-1]
     base = n_brim * w + distance
