@@ -125,7 +125,7 @@ def test_a_bad_job_parameter_is_named_by_its_flag(data_dir, tmp_path):
 def test_layers_without_svgs(data_dir, tmp_path):
     assert main(["layers", str(data_dir / "cube_with_hole.stl"), "--layer-height", "5", "-o", str(tmp_path),
                  "--no-svg"]) == 0
-    assert [p.name for p in tmp_path.iterdir()] == ["layers.json"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".slicelab-layers.json", "layers.json"]
 
 
 @pytest.mark.parametrize("good", [True, False])

@@ -6,6 +6,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+import slicelab
 from slicelab import Mesh, check, load, save
 from slicelab.mesh import repair
 from slicelab.samples import box, concat, nested_shells, torus
@@ -228,3 +229,40 @@ def test_slice_names_the_holes_and_fills_them_when_asked(tmp_path):
     assert r.returncode == 0, r.stderr
     assert "filled 1 hole (14.4 mm across)" in r.stdout + r.stderr
     assert out.read_text().count(";LAYER_CHANGE") == 5
+
+
+def _slice(*args):
+    import subprocess
+    import sys
+    return subprocess.run([sys.executable, "-m", "slicelab", "slice", *map(str, args)], capture_output=True,
+                          text=True, timeout=300)
+
+
+def test_slice_repairs_what_is_safe_unasked_and_says_so(tmp_path):
+    # Two cubes touching along an edge (a non-manifold edge, closed by winding), two facets reversed
+    # (misoriented edges, as the 3DBenchy has), and an inside-out cube: sliced, each repair said
+    # in one line and in the G-code header; --no-repair refuses instead, in one line.
+    a, b = box((0, 0, 0), (10, 10, 10)).triangles, box((10, 10, 0), (20, 20, 10)).triangles
+    t = np.concatenate([a, b]).copy()
+    t[[3, 7]] = t[[3, 7]][:, ::-1]
+    slicelab.save(slicelab.Mesh(t), tmp_path / "misoriented.stl")
+    slicelab.save(slicelab.Mesh(a[:, ::-1].copy()), tmp_path / "inside_out.stl")
+    r0 = check(slicelab.load(tmp_path / "misoriented.stl"))
+    assert r0.n_misoriented_edges and r0.n_nonmanifold_edges and not r0.watertight
+    for name, said in (("misoriented", "reversed 2 facets to agree with their neighbours"),
+                       ("inside_out", "turned 1 inside-out shell outward")):
+        out = tmp_path / f"{name}.gcode"
+        r = _slice(tmp_path / f"{name}.stl", "-o", out, "--layer-height", "0.3", "--first-layer-height", "0.1")
+        assert r.returncode == 0, r.stderr
+        assert r.stdout.splitlines()[0] == f"repair: {said}"
+        assert f"; repaired: {said}\n" in out.read_text().split(";LAYER_CHANGE")[0]
+        assert out.read_text().count(";LAYER_CHANGE") == 34   # 0.1 mm, then 33 of 0.3 mm
+        refused = _slice(tmp_path / f"{name}.stl", "-o", tmp_path / "no.gcode", "--no-repair")
+        assert refused.returncode == 2 and "--no-repair" in refused.stderr
+        assert refused.stderr.splitlines()[-1].startswith("slicelab: error:") and not (tmp_path / "no.gcode").exists()
+    # A clean part is not touched: no repair line, and the same G-code as with --no-repair.
+    slicelab.save(box((0, 0, 0), (10, 10, 4)), tmp_path / "clean.stl")
+    r = _slice(tmp_path / "clean.stl", "-o", tmp_path / "a.gcode")
+    assert r.returncode == 0 and not r.stdout.startswith("repair:")
+    assert _slice(tmp_path / "clean.stl", "-o", tmp_path / "b.gcode", "--no-repair").returncode == 0
+    assert (tmp_path / "a.gcode").read_bytes() == (tmp_path / "b.gcode").read_bytes()

@@ -385,7 +385,8 @@ def test_cli_writes_front_rear_section_and_preview(tmp_path):
     import matplotlib.image
     img = matplotlib.image.imread(out / "preview.png")
     assert img.ndim == 3 and img.shape[0] > 100 and img.shape[1] > 100
-    assert sorted(p.name for p in out.iterdir()) == ["front.stl", "preview.png", "rear.stl", "section.svg"]
+    assert sorted(p.name for p in out.iterdir()) == [".slicelab-split.json", "front.stl", "preview.png", "rear.stl",
+                                                     "section.svg"]
 
     r = run_cli(src, "--z", "60", "-o", out, "--no-preview", "--visible-from", "0,0,1")
     assert r.returncode == 0, r.stderr

@@ -128,10 +128,18 @@ def no_preview(p, name: str = "preview.png") -> None:
                    help=f"do not draw {name}")
 
 
-def repair_flag(p) -> None:
-    p.add_argument("--repair", action="store_true", default=GIVEN,
-                   help="first snap CAD float noise (near-coincident vertices), drop collapsed and duplicate "
-                        "facets and make windings agree (slicelab.repair); the changes are reported")
+def repair_flag(p, default: bool = False) -> None:
+    """--repair (and --no-repair where repairing is the default) and --fill-holes."""
+    if default:
+        p.add_argument("--repair", action=argparse.BooleanOptionalAction, default=GIVEN,
+                       help="snap CAD float noise (near-coincident vertices), drop collapsed and duplicate facets, "
+                            "make windings agree and turn inside-out shells outward when the mesh's check finds "
+                            "any of these, as PrusaSlicer does, and say what changed (default); --no-repair "
+                            "refuses such a mesh instead")
+    else:
+        p.add_argument("--repair", action="store_true", default=GIVEN,
+                       help="first snap CAD float noise (near-coincident vertices), drop collapsed and duplicate "
+                            "facets and make windings agree (slicelab.repair); the changes are reported")
     p.add_argument("--fill-holes", action="store_true", default=GIVEN,
                    help="repair, and close each hole (a loop of open edges, as a scan leaves where it saw "
                         "nothing) with a fan of facets, as PrusaSlicer does unasked; the holes and the size "

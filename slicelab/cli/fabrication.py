@@ -20,8 +20,8 @@ DOCS = {
         "help": 'cut a solid by a plane into two closed, capped parts',
         "description": 'Cut FILE with a plane into two watertight parts, each capped on the plane with a '
                        'constrained Delaunay triangulation; write DIR/rear.stl (the side against the normal), '
-                       'DIR/front.stl and DIR/exploded.png. Exit status 1 when the section did not close (open '
-                       'input).',
+                       'DIR/front.stl and DIR/exploded.png. An input that is not a closed solid, or parts that '
+                       'would not be watertight, are refused before anything is written.',
     },
     "partition": {
         "help": "cut a solid into pieces that fit a printer's build volume",
@@ -65,9 +65,6 @@ def _run_cut(args) -> int:
               f"{'watertight' if part['watertight'] else 'NOT watertight'} as written")
     print(f"{timings(r, 'cut')}; wrote {args.output}/")
     warn(r)
-    if not all(r.results[n]["watertight"] for n in ("rear", "front") if n in r.results):
-        print("slicelab: error: the parts are not watertight as written", file=sys.stderr)
-        return 1
     return 0
 
 
@@ -104,12 +101,7 @@ def _run_partition(args) -> int:
     print(r.value.report.describe(watertight=written))
     print(f"{timings(r, 'partition')}; wrote {args.output}/ (pieces placed for printing; "
           f"watertight as read back from the files)")
-    if not r.results["watertight"]:
-        for why in r.reasons:
-            print(f"slicelab: warning: {why['message']}", file=sys.stderr)
-        print(f"slicelab: error: {written.count(False)} of {len(written)} pieces are not watertight as written",
-              file=sys.stderr)
-        return 1
+    warn(r)
     return 0
 
 
@@ -226,7 +218,7 @@ def _add_slice(sub) -> None:
     p.add_argument("--workers", type=int, default=GIVEN, metavar="N", help="processes (default: all cores)")
     p.add_argument("--preview", dest="preview_dir", type=Path, default=None, metavar="DIR",
                    help="also write DIR/layer_*.svg and DIR/preview.png")
-    repair_flag(p)
+    repair_flag(p, default=True)
 
 
 def _run_slice(args) -> int:

@@ -93,6 +93,14 @@ class MeshReport:
         """True when every edge is walked as often one way as the other (`n_unbalanced_edges`)."""
         return self.n_facets > 0 and self.n_unbalanced_edges == 0
 
+    @property
+    def needs_repair(self) -> bool:
+        """True when `slicelab.repair` may change something: degenerate facets, open, non-manifold
+        or misoriented edges, near-coincident vertices, a negative volume (inside out), or several
+        shells (one of which may be wound against its nesting)."""
+        return bool(self.n_degenerate or self.n_open_edges or self.n_nonmanifold_edges
+                    or self.n_misoriented_edges or self.n_near_vertices or self.volume < 0 or self.n_shells > 1)
+
     def to_dict(self) -> dict:
         """Plain-Python dictionary, ready for JSON."""
         d = asdict(self)

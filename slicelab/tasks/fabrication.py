@@ -82,11 +82,30 @@ def _open_input(inp, p=None) -> list:
                                  f"{r.n_misoriented_edges} misoriented edges{hint}")]
 
 
+def _closed_solid(inp, p) -> None:
+    """Refuse, before any work, an input that does not bound a solid: its parts could not be closed."""
+    why = _open_input(inp, p)
+    if why:
+        raise ValueError(f"{inp.path}: {why[0]['message']}; {'a cut' if 'plane' in p else 'a partition'} "
+                         f"needs a closed solid")
+
+
+def _all_closed(results: dict, reasons: list) -> None:
+    """Refuse parts that are not watertight as written (they were written to a staging folder, which
+    is then discarded: no open part is left under its final name)."""
+    if reasons:
+        raise ValueError(f"{reasons[0]['message']}: nothing was written (the parts would not be closed)")
+
+
 def _cut_write(value, inp, p, out):
     parts = value[2]
+    if not parts.report.closed:
+        raise ValueError(f"{inp.path}: the section did not close everywhere (a self-intersecting mesh?): the "
+                         f"parts would not be watertight; nothing was written")
     with drawn_meanwhile(_exploded(p), (parts.rear, parts.front), out.path("preview") if p["preview"] else None,
                          spread=0.35, title=f"{inp.path.name}: cut"):
         results, reasons = _write_parts([("rear", None, parts.rear), ("front", None, parts.front)], out)
+    _all_closed(results, reasons)
     return {"results": results, "reasons": reasons}
 
 
@@ -118,7 +137,7 @@ def _cut_report(value, inp, p):
 CUT = Job(
     "cut", "cut a solid by a plane into two closed parts, capped on the plane",
     _cut_parameters, {"rear": "rear.stl", "front": "front.stl", "preview": "exploded.png"},
-    _cut_compute, _cut_write, _cut_report,
+    _cut_compute, _cut_write, _cut_report, feasible=_closed_solid,
 )
 
 
@@ -142,9 +161,7 @@ def _partition_parameters(volume=None, joint: str = "flat", clearance: float = 0
 
 def _partition_feasible(inp, p):
     from .limits import check_partition
-    why = _open_input(inp, p)
-    if why:
-        raise ValueError(f"{inp.path}: {why[0]['message']}; a partition needs a closed solid")
+    _closed_solid(inp, p)
     check_partition(inp.mesh, p["volume"], joint=p["joint"], step=p["step"])
 
 
@@ -163,6 +180,7 @@ def _partition_write(parts, inp, p, out):
     with drawn_meanwhile(_exploded(p), pieces, out.path("preview") if p["preview"] else None,
                          title=f"{inp.path.name}: {len(pieces)} pieces, {p['joint']} joints"):
         results, reasons = _write_parts([("pieces", n, m) for n, m in zip(names, placed)], out)
+    _all_closed(results, reasons)
     report = parts.report.to_dict()
     for name, piece in zip(names, report["pieces"]):
         piece["file"] = name
@@ -208,13 +226,14 @@ def _size(name: str, value) -> list:
     return vector(name, value, size=2, positive=True)
 
 
-def _slice_parameters(printer=None, config=None, workers=None, preview: bool = False, repair: bool = False,
+def _slice_parameters(printer=None, config=None, workers=None, preview: bool = False, repair: bool = True,
                       fill_holes: bool = False, **settings) -> dict:
     """`slicelab.toolpath.PrintSettings` fields in `settings` (left out: the printer profile's, then the
     settings file's, then PrintSettings' defaults; the first layer as thick as the others unless given;
     bed_size as ``"250x210"`` or two numbers); printer: a bundled profile's name; config: a TOML
     settings file; workers: processes (None: all cores); preview: layer SVGs and a PNG; repair:
-    `slicelab.repair` the mesh first; fill_holes: repair, and close the holes too."""
+    `slicelab.repair` the mesh first when its check finds something to mend, as PrusaSlicer does
+    (False refuses such a mesh instead); fill_holes: repair, and close the holes too."""
     from ..toolpath import PrintSettings, setting_names
     from ..toolpath.printers import resolve_settings
     known = set(setting_names())
@@ -262,8 +281,11 @@ def _slice_feasible(inp, p):
     why = _open_input(inp, p)
     if why and not inp.check.closed_by_winding:
         message = why[0]["message"]
-        hint = "" if "--" in message else " (slicelab repair can close CAD noise: --repair)"
+        hint = "" if "--" in message or p["repair"] else " (leave out --no-repair to repair it)"
         raise ValueError(f"{inp.path}: {message}{hint}; its layers would not be closed regions")
+    if inp.check.volume < 0:  # only with --no-repair: a repair turns it outward
+        raise ValueError(f"{inp.path}: the mesh is inside out (its volume is {inp.check.volume:.6g} mm3): "
+                         f"leave out --no-repair to turn it outward")
     s = _settings(p)
     check_print(inp.mesh, layer_height=min(s.layer_height, s.first_layer_height), pixel_size=s.pixel_size,
                 line_width=s.line_width, n_perimeters=s.n_perimeters)
@@ -285,14 +307,15 @@ def _slice_compute(inp, p):
 
 def _slice_write(pp, inp, p, out):
     from ..export import write_gcode
+    notes = [f"repaired: {change}" for change in inp.repair.changes()] if inp.repair is not None else []
     if not p["preview"]:
-        totals = write_gcode(pp, out.path("gcode"), workers=p["workers"])
+        totals = write_gcode(pp, out.path("gcode"), workers=p["workers"], notes=notes)
         return {"results": {"print_time": totals["seconds"], "filament_used": totals["filament"]}}
     if out.folder is None:
         raise ValueError("a preview needs a folder")
     from ..export import write_svgs
     from ..viz import preview_png
-    totals = write_gcode(pp, out.path("gcode"), workers=p["workers"])  # (may fork: before any thread)
+    totals = write_gcode(pp, out.path("gcode"), workers=p["workers"], notes=notes)  # (may fork: before any thread)
     svgs = []
     # The layers the planner's workers drew are only files to write: on a thread while the PNG is
     # drawn (file output and OpenCV let go of the GIL). Layers left to draw may need a pool,

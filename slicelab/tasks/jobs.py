@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..export.files import atomic_open
+from ..export.files import StagedFolder, atomic_open, same_file
 from .fabrication import CUT, PARTITION, SLICE
 from .limits import check_layers, check_planes, likely_units
 from .spec import (
@@ -50,7 +50,7 @@ from .spec import (
 )
 from .spec import plane as plane_value
 
-__all__ = ["JOBS", "TASKS", "job_parameters", "run_job", "check_output_dir"]
+__all__ = ["JOBS", "TASKS", "SUFFIXES", "job_parameters", "run_job", "check_output_dir", "check_outputs"]
 
 
 def check_output_dir(path) -> None:
@@ -394,6 +394,7 @@ def run_job(name: str, source, params: dict | None = None, folder=None, *, paths
         params = {**params, **reading}
     if folder is not None:
         check_output_dir(folder)
+    check_outputs(job, source, folder, paths)
     timings = {}
     if mesh is None:
         from ..mesh import load
@@ -405,19 +406,32 @@ def run_job(name: str, source, params: dict | None = None, folder=None, *, paths
         mesh = Mesh(mesh.triangles * unit_scale(**reading), mesh.file_normals)
     repaired = None
     if params.get("repair") or params.get("fill_holes"):
+        # Repaired only when the check finds something to mend: a clean part keeps its facets as read.
+        from ..mesh import check as check_mesh
         from ..mesh import repair
         t0 = time.perf_counter()
-        fixed = repair(mesh, fill_holes=bool(params.get("fill_holes")))
-        mesh, repaired = fixed.mesh, fixed.report
-        check, timings["repair"] = None, time.perf_counter() - t0
-    inp = JobInput(Path(source), mesh, check)
+        check = check if check is not None else check_mesh(mesh)
+        if params.get("fill_holes") or check.needs_repair:
+            fixed = repair(mesh, fill_holes=bool(params.get("fill_holes")))
+            mesh, repaired = fixed.mesh, fixed.report
+            check = None if fixed.report.changed else check
+        timings["repair"] = time.perf_counter() - t0
+    inp = JobInput(Path(source), mesh, check, repaired)
     if job.feasible is not None:
         job.feasible(inp, params)
     t0 = time.perf_counter()
     value = job.compute(inp, params)
     t1 = time.perf_counter()
-    out = Outputs(job.outputs, folder, paths)
-    written = job.write(value, inp, params, out) or {}
+    staged = None if folder is None else StagedFolder(folder, job.name, keep=[source])
+    out = Outputs(job.outputs, None if staged is None else staged.staging, paths)
+    try:
+        written = job.write(value, inp, params, out) or {}
+        if staged is not None:
+            out.moved(staged.commit())
+    except BaseException:
+        if staged is not None:
+            staged.discard()
+        raise
     t2 = time.perf_counter()
     results, reasons = job.report(value, inp, params)
     results = {**results, **written.get("results", {})}
@@ -431,3 +445,45 @@ def run_job(name: str, source, params: dict | None = None, folder=None, *, paths
     timings.update(compute=t1 - t0, write=t2 - t1)
     return JobResult(name, inp.path, params, dict(out.written), plain(results), reasons, timings,
                      len(mesh), value)
+
+
+#: The endings an output file given by name may have, by the ending of the job's own name for it.
+SUFFIXES = {".gcode": (".gcode", ".gco", ".g", ".nc"), ".svg": (".svg",), ".png": (".png",), ".json": (".json",)}
+
+
+def check_outputs(job, source, folder=None, paths=None) -> None:
+    """Refuse, before any work, an output that would be the input file (through links too) and an
+    output file named with an ending other than its kind's (G-code under ``part.3mf``).
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> d = pathlib.Path(tempfile.mkdtemp()); (d / "rear.stl").write_text("solid")
+    5
+    >>> check_outputs(JOBS["slice"], d / "rear.stl", paths={"gcode": d / "rear.3mf"})
+    Traceback (most recent call last):
+    ...
+    ValueError: .../rear.3mf: slice writes G-code here: name it .gcode (or .gco, .g, .nc)
+    >>> check_outputs(JOBS["cut"], d / "rear.stl", folder=d)   # the cut's own rear.stl
+    Traceback (most recent call last):
+    ...
+    ValueError: .../rear.stl: is the input file; name the output otherwise
+    """
+    kinds = {".gcode": "G-code", ".svg": "an SVG drawing", ".png": "a PNG image", ".json": "JSON"}
+    targets = []
+    for role, path in (paths or {}).items():
+        if path is None:
+            continue
+        path = Path(path)
+        ending = Path(job.outputs[role]).suffix.lower()
+        allowed = SUFFIXES.get(ending, (ending,))
+        if path.suffix.lower() not in allowed:
+            others = f" (or {', '.join(allowed[1:])})" if len(allowed) > 1 else ""
+            raise ValueError(f"{path}: {job.name} writes {kinds.get(ending, ending)} here: name it "
+                             f"{allowed[0]}{others}")
+        targets.append(path)
+    if folder is not None:  # the job's own names that are not patterns (part_NNN.stl, layer_*.svg)
+        targets += [Path(folder) / n for n in job.outputs.values() if "NNN" not in n and "*" not in n]
+    for path in targets:
+        if same_file(path, source):
+            raise ValueError(f"{path}: is the input file; name the output otherwise")

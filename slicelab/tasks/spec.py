@@ -205,7 +205,8 @@ def plain(x):
 # ------------------------------------------------------------------ the parts
 @dataclass(frozen=True)
 class JobInput:
-    """A job's input: the file it came from, the mesh, and its check (computed once, when asked).
+    """A job's input: the file it came from, the mesh, its check (computed once, when asked) and,
+    when the mesh was repaired on the way in, the `slicelab.mesh.RepairReport`.
 
     Examples
     --------
@@ -217,6 +218,7 @@ class JobInput:
     path: Path
     mesh: Any = field(repr=False)
     given_check: Any = field(default=None, repr=False)
+    repair: Any = field(default=None, repr=False)
 
     @cached_property
     def check(self):
@@ -266,6 +268,12 @@ class Outputs:
     def record(self, role: str, paths) -> None:
         """Record files a writer named itself (a many-file role)."""
         self.written.setdefault(role, []).extend(Path(p) for p in paths)
+
+    def moved(self, where: Mapping) -> None:
+        """Rename the paths recorded by `where` ({old: new}: the staged files moved into place)."""
+        def new(p):
+            return where.get(p, p)
+        self.written = {k: [new(p) for p in v] if isinstance(v, list) else new(v) for k, v in self.written.items()}
 
 
 @dataclass(frozen=True)

@@ -19,7 +19,7 @@ slicelab.toolpath.printers : printer profiles and settings files.
 from __future__ import annotations
 
 import math
-from dataclasses import asdict, dataclass, fields, replace
+from dataclasses import asdict, dataclass, fields
 
 from .fields import check_fields, check_template, setting
 
