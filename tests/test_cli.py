@@ -157,3 +157,37 @@ def test_a_reader_that_leaves_early_is_no_error(data_dir):
         err = p.stderr.read()
         status = p.wait()
     assert first.startswith(b"== ") and err == b"" and status == 141
+
+
+@pytest.mark.parametrize("argv", [
+    [], ["frob"], ["inspect"], ["section", "x.stl"], ["section", "x.stl", "-o", "a.svg", "--z", "high"],
+    ["slice"], ["slice", "x.stl"], ["slice", "x.stl", "-o", "x.gcode", "--layer-height", "thin"],
+    ["slice", "x.stl", "-o", "x.gcode", "--infill-pattern", "stars"], ["slice", "x.stl", "--perimeters", "2.5"],
+    ["slice", "x.stl", "-o", "x.gcode", "--support", "sometimes"], ["partition", "x.stl", "-o", "d"],
+    ["partition", "x.stl", "--volume", "1x2", "-o", "d"], ["cut", "x.stl", "--origin", "1,2", "-o", "d"],
+    ["layers", "x.stl", "-o", "d"], ["profile", "x.stl", "-o", "p.svg", "--planes", "many"],
+    ["batch", "d", "--task", "nothing", "-o", "o"], ["arrange", "-o", "d"], ["split", "--bogus", "x.stl"],
+    ["inspect", "--units", "furlong", "x.stl"], ["slice", "x.stl", "-o", "x.gcode", "--scale", "-1"],
+])
+def test_every_usage_error_is_one_line_naming_the_problem_and_help(capsys, argv):
+    with pytest.raises(SystemExit) as exc:
+        code = main(argv)
+        raise SystemExit(code)
+    err = capsys.readouterr().err
+    assert exc.value.code == 2 and err.count("\n") == 1, err
+    assert err.startswith("slicelab") and "error:" in err and "--help" in err
+
+
+def test_print_config_needs_no_output(capsys):
+    assert main(["slice", "--print-config", "--printer", "generic-marlin-220", "--layer-height", "0.15"]) == 0
+    shown = capsys.readouterr().out
+    assert "layer_height = 0.15" in shown and "bed_size = [220.0, 220.0]" in shown
+
+
+def test_an_internal_error_is_one_line_too(capsys, monkeypatch, data_dir):
+    def broken(*a, **k):
+        raise ZeroDivisionError("float division by zero")
+    monkeypatch.setattr("slicelab.cli.analysis.run_job", broken)
+    assert main(["section", str(data_dir / "cube_with_hole.stl"), "--z", "5", "-o", "x.svg"]) == 1
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "internal error: ZeroDivisionError" in err

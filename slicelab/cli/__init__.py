@@ -42,9 +42,31 @@ class _Version(argparse.Action):
         parser.exit()
 
 
+class _Parser(argparse.ArgumentParser):
+    """argparse's parser, whose usage errors are one line naming the problem and where help is
+    (argparse prints the whole usage first: up to 25 lines for ``slice``)."""
+
+    def error(self, message):
+        self.exit(2, f"{self.prog}: error: {message} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
-    """The argument parser with every subcommand."""
-    parser = argparse.ArgumentParser(
+    """The argument parser with every subcommand.
+
+    Examples
+    --------
+    >>> import contextlib, io
+    >>> err = io.StringIO()
+    >>> with contextlib.redirect_stderr(err):
+    ...     try:
+    ...         build_parser().parse_args(["slice", "part.stl", "--layer-height", "thin"])
+    ...     except SystemExit as exc:
+    ...         print(exc.code)
+    2
+    >>> print(err.getvalue(), end="")
+    slicelab slice: error: argument --layer-height: expected a number, got 'thin' (see slicelab slice --help)
+    """
+    parser = _Parser(
         prog="slicelab",
         description="Exact slicing of STL meshes: checks, sections, splits, cuts and toolpaths.")
     parser.add_argument("--version", action=_Version, nargs=0,
@@ -93,6 +115,14 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("slicelab: interrupted", file=sys.stderr)
         return 130
+    except (ArithmeticError, RecursionError, Exception) as exc:  # noqa: BLE001 - a bug, said in one line
+        import os
+        if os.environ.get("SLICELAB_DEBUG"):
+            raise
+        msg = str(exc).splitlines()[0] if str(exc) else ""
+        print(f"slicelab: internal error: {type(exc).__name__}: {msg} (a bug: please report it with the "
+              f"command; SLICELAB_DEBUG=1 shows the traceback)", file=sys.stderr)
+        return 1
 
 
 #: The status of a command whose reader closed the pipe: a process ended by SIGPIPE, as the shell shows it.

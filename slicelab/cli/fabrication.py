@@ -148,9 +148,10 @@ class _Default:
 
 def _add_slice(sub) -> None:
     p = command(sub, "slice", DOCS, file=False)
-    p.add_argument("files", type=Path, nargs="+", metavar="FILE",
+    p.add_argument("files", type=Path, nargs="*", metavar="FILE",
                    help="the part; several are put side by side on the bed, upright as given, and print together")
-    p.add_argument("-o", "--output", type=Path, required=True, metavar="OUT.gcode")
+    p.add_argument("-o", "--output", type=Path, metavar="OUT.gcode", help="the G-code file (required unless "
+                                                                          "--print-config)")
     p.add_argument("--layer-height", type=positive, default=GIVEN, metavar="H", help="(default 0.2 mm)")
     p.add_argument("--first-layer-height", type=positive, default=GIVEN, metavar="H",
                    help="default: the layer height")
@@ -223,6 +224,8 @@ def _add_slice(sub) -> None:
 
 def _run_slice(args) -> int:
     params = options(args, "slice", preview=args.preview_dir is not None)
+    if not args.print_config and (not args.files or args.output is None):
+        raise UsageError("slice needs a FILE and -o OUT.gcode (see slicelab slice --help)")
     if args.print_config:
         from ..tasks.fabrication import slice_settings
         from ..tasks.jobs import job_parameters
