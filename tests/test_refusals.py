@@ -24,6 +24,13 @@ CASES = {
     "a FIFO to section": (["section", "{fifo}", "--z", "1", "-o", "{out}/s.svg"], "not a regular file"),
     "an open solid to partition": (["partition", "{open}", "--volume", "20x20x20", "-o", "{out}/parts"],
                                    "not watertight"),
+    "5 um pixels on a 20 mm cube": (["slice", "{cube}", "-o", "{out}/p.gcode", "--pixel-size", "0.005"],
+                                    "or coarser (--pixel-size)"),
+    "20000 layers of a 200 mm part": (["slice", "{cube}", "-o", "{out}/p.gcode", "--scale", "10",
+                                       "--layer-height", "0.01", "--first-layer-height", "0.01",
+                                       "--bed-size", "1000x1000", "--max-height", "1000"], "(--layer-height)"),
+    "a billion top layers": (["slice", "{cube}", "-o", "{out}/p.gcode", "--top-layers", "1000000000"],
+                             "--top-layers must be a whole number from 0 to 100 layers"),
 }
 
 
@@ -33,7 +40,9 @@ def files(tmp_path, data_dir):
     os.mkfifo(fifo)
     opened = box((0, 0, 0), (50, 10, 10))
     slicelab.save(slicelab.Mesh(opened.triangles[1:]), tmp_path / "open.stl")
-    return {"pot": data_dir / "pot.stl", "out": tmp_path / "out", "fifo": fifo, "open": tmp_path / "open.stl"}
+    slicelab.save(box((0, 0, 0), (20, 20, 20)), tmp_path / "cube.stl")
+    return {"pot": data_dir / "pot.stl", "out": tmp_path / "out", "fifo": fifo, "open": tmp_path / "open.stl",
+            "cube": tmp_path / "cube.stl"}
 
 
 @pytest.mark.parametrize("case", CASES)

@@ -17,7 +17,8 @@ import numpy as np
 
 from .spec import ParameterError
 
-__all__ = ["likely_units", "MIN_LAYER_HEIGHT", "MIN_PIXEL_SIZE", "MAX_LAYERS", "MAX_PLANES", "MAX_STAIR_BANDS", "memory_budget",
+__all__ = ["likely_units", "MIN_LAYER_HEIGHT", "MIN_PIXEL_SIZE", "MAX_LAYERS", "MAX_PLANES", "MAX_STAIR_BANDS", "MAX_LAYER_PIXELS",
+           "MAX_PRINT_PIXELS", "memory_budget",
            "check_layers", "check_print", "check_planes", "check_partition"]
 
 MIN_LAYER_HEIGHT = 1e-3   # mm: one micrometre, far below any printer or scanner
@@ -27,6 +28,12 @@ MAX_PLANES = 3600         # a plane every tenth of a degree
 MAX_STAIR_BANDS = 2000    # teeth across one joint
 _SEGMENT_BYTES = 200      # memory per section segment while slicing every layer at once
 _PIXEL_BYTES = 40         # memory per raster pixel of a layer (masks, distance field, labels)
+#: Pixels a print layer's raster may hold: 8 M, a 570 mm square at the default 0.2 mm pixel,
+#: larger than any bed. A layer's cost grows faster than its pixels beyond a few million (a 40 mm
+#: sphere: 3 M pixels a layer, 11 s; 12 M, 121 s), so finer grids are refused before they start.
+MAX_LAYER_PIXELS = 8_000_000
+#: Pixels over all layers of a print (pixels a layer x layers): some minutes of planning.
+MAX_PRINT_PIXELS = 2e10
 
 
 def memory_budget() -> int:
@@ -94,6 +101,10 @@ def check_print(mesh, *, layer_height: float, pixel_size: float, line_width: flo
     Traceback (most recent call last):
     ...
     slicelab.tasks.spec.ParameterError: n_perimeters 1000 would reach 400 mm inward from the outline of a part 20 mm across: at most 25 fit
+    >>> check_print(part, layer_height=0.2, pixel_size=0.005, line_width=0.4, n_perimeters=2)
+    Traceback (most recent call last):
+    ...
+    slicelab.tasks.spec.ParameterError: pixel_size 0.005 mm makes 21.5 M pixels a layer for a part 20 x 20 mm (at most 8 M): a pixel_size of 0.0083 mm or coarser (--pixel-size) brings it within reach
     """
     check_layers(mesh, layer_height)
     lo, hi = mesh.bounds
@@ -107,12 +118,33 @@ def check_print(mesh, *, layer_height: float, pixel_size: float, line_width: flo
         raise ParameterError("pixel_size", f"{pixel_size:g} mm is finer than {MIN_PIXEL_SIZE:g} mm "
                                            f"(a tenth of a fine nozzle's line)")
     margin = 2 * (n_perimeters + 2) * line_width
-    pixels = (x + margin) * (y + margin) / pixel_size ** 2
+    area = (x + margin) * (y + margin)
+    pixels = area / pixel_size ** 2
+    if pixels > MAX_LAYER_PIXELS:
+        coarse = math.sqrt(area / MAX_LAYER_PIXELS)
+        raise ParameterError("pixel_size", f"{pixel_size:g} mm makes {pixels / 1e6:.3g} M pixels a layer for a part "
+                                           f"{x:.4g} x {y:.4g} mm (at most {MAX_LAYER_PIXELS / 1e6:g} M): "
+                                           f"a pixel_size of {_up(coarse)} mm or coarser (--pixel-size) brings it "
+                                           f"within reach")
+    lo, hi = mesh.bounds
+    layers = max(1.0, float(hi[2] - lo[2]) / layer_height)
+    if pixels * layers > MAX_PRINT_PIXELS:
+        fewer = float(hi[2] - lo[2]) * pixels / MAX_PRINT_PIXELS
+        raise ParameterError("layer_height", f"{layer_height:g} mm makes {layers:.0f} layers of {pixels / 1e6:.3g} M "
+                                             f"pixels ({pixels * layers:.3g} in all, at most {MAX_PRINT_PIXELS:.3g}): "
+                                             f"a layer_height of {_up(fewer)} mm (--layer-height) or a coarser "
+                                             f"pixel_size brings it within reach")
     need = pixels * _PIXEL_BYTES
     if need > memory_budget():
         raise ParameterError("pixel_size", f"{pixel_size:g} mm makes {pixels:.3g} pixels a layer for a part "
                                            f"{x:.4g} x {y:.4g} mm, {_gib(need)} of memory (this machine allows "
                                            f"{_gib(memory_budget())})")
+
+
+def _up(value: float) -> str:
+    """`value` rounded up to two significant digits (a setting that is surely enough)."""
+    digits = 10 ** (math.floor(math.log10(value)) - 1)
+    return f"{math.ceil(value / digits) * digits:.2g}"
 
 
 def check_planes(planes: int, name: str = "planes") -> None:
