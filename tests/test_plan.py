@@ -474,3 +474,24 @@ def test_bad_settings():
         PrintSettings(dont_support_bridges="no")
     with pytest.raises(ValueError, match="nothing to print"):
         plan(slicelab.Mesh(np.zeros((0, 3, 3))), PrintSettings())
+
+
+def test_a_part_on_a_corner_is_lowered_until_its_first_layer_prints():
+    # A cube standing on a corner: its first three layers are triangles too small for a line, so
+    # the first extrusion would be laid in the air on the fourth. The plan lowers it 0.6 mm into
+    # the bed, says so, and prints its first layer on the bed.
+    from slicelab.samples import box
+    from slicelab.toolpath import PrintSettings, plan
+    a = np.ones(3) / np.sqrt(3)
+    v = np.cross(a, [0, 0, 1.0])
+    vx = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])
+    turn = np.eye(3) + vx + vx @ vx / (1 + a[2])
+    corner = slicelab.Mesh(box((0, 0, 0), (10, 10, 10)).triangles @ turn.T)
+    p = plan(corner, PrintSettings(), workers=1)
+    assert p.sunk == pytest.approx(0.6)
+    assert p.offset[2] == pytest.approx(-corner.bounds[0][2] - 0.6)
+    assert [w["code"] for w in p.warnings()][0] == "lowered"
+    first = p.layers[0]
+    assert p.z[0] == pytest.approx(0.2) and any(k not in ("skirt", "brim") for k in first.kind)
+    # A part standing on a face is not lowered.
+    assert plan(box((0, 0, 0), (10, 10, 2)), PrintSettings(), workers=1).sunk == 0.0

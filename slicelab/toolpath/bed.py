@@ -17,7 +17,7 @@ import numpy as np
 
 from .skirt import skirt_margin
 
-__all__ = ["check_bed"]
+__all__ = ["check_bed", "footprint_extent"]
 
 
 def check_bed(mesh, settings, first_layer=None) -> None:
@@ -84,3 +84,14 @@ def check_bed(mesh, settings, first_layer=None) -> None:
         raise ValueError(f"bed_center ({centre[0]:g}, {centre[1]:g}): the part centred there, "
                          f"{fhi[0] - flo[0]:.4g} x {fhi[1] - flo[1]:.4g} mm with its skirt, reaches past the "
                          f"bed's edge ({bed[0]:g} x {bed[1]:g} mm)")
+
+
+def footprint_extent(lo: np.ndarray, hi: np.ndarray, first, settings) -> tuple:
+    """``(x0, y0, x1, y1)`` (part coordinates): the footprint's box (`lo`, `hi`), and the first
+    layer's box widened by how far its skirt and brim reach (`slicelab.toolpath.PrintPlan.extent`)."""
+    s = settings
+    margin = skirt_margin(s.line_width, s.skirt_loops, s.skirt_distance, s.brim_width)
+    if margin > 0 and len(first.segments):
+        flo, fhi = first.bounds()
+        lo, hi = np.minimum(lo, flo[:2] - margin), np.maximum(hi, fhi[:2] + margin)
+    return tuple(float(v) for v in (*lo, *hi))

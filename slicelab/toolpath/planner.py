@@ -28,7 +28,7 @@ from functools import cached_property, partial
 import numpy as np
 
 from ..mesh.core import Mesh
-from .bed import check_bed
+from .bed import check_bed, footprint_extent
 from .repeats import RunStart
 from .settings import PrintSettings
 
@@ -90,6 +90,9 @@ class PrintPlan:
     drawings : dict
         Layers the workers drew as they planned them (``layer_drawing``): index -> the
         layer's SVG document, taken by `slicelab.export.layer_svgs.write_svgs`.
+    sunk : float
+        How far the part was lowered into the bed (mm) because its lowest layers held no line
+        (`plan`); what lies below the bed is not printed.
 
     See Also
     --------
@@ -108,16 +111,23 @@ class PrintPlan:
     texts: dict = field(default_factory=dict, repr=False)
     extent: tuple = (0.0, 0.0, 0.0, 0.0)
     drawings: dict = field(default_factory=dict, repr=False)
+    sunk: float = 0.0
 
     def warnings(self) -> list[dict]:
         """What will not print as planned, each a dict with a ``code`` and a ``message``.
 
-        ``unsupported_overhang``: material over nothing beyond the overhang threshold that no
-        bridge holds (no supports are made); ``mid_air``: islands that start with nothing
-        under them.
+        ``lowered``: the part was lowered into the bed so that its first layer prints
+        (`sunk`); ``unsupported_overhang``: material over nothing beyond the overhang threshold
+        that no bridge holds (no supports are made); ``mid_air``: islands that start with
+        nothing under them.
         """
         ov = self.overhangs
         out = []
+        if self.sunk:
+            out.append({"code": "lowered", "sunk_mm": self.sunk,
+                        "message": f"the part's lowest {self.sunk:.3g} mm hold no line (it touches the bed "
+                                   f"at a point or an edge): it was lowered {self.sunk:.3g} mm into the bed so "
+                                   f"that its first layer prints, and that much of its bottom is left out"})
         if len(ov) == 0 or self.settings.support == "auto":  # supports hold all of it
             return out
         held = " (supports stand only on the bed: those over the part are not held)" \
@@ -404,19 +414,32 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     >>> set(p.layers[0].filling_kinds)   # bottom layers are solid
     {'solid'}
     """
+    s = settings or PrintSettings()
+    given = dict(workers=workers, progress=progress, layer_text=layer_text, layer_drawing=layer_drawing)
+    first = _plan(mesh, s, 0.0, **given)
+    # A part whose lowest layers hold no line (a scan touching the bed at a point, a part on an
+    # edge) would have its first extrusion laid in the air: lowered into the bed until its first
+    # layer prints, it loses only layers that print nothing.
+    k = next((k for k, lp in enumerate(first.layers) if any(x not in ("skirt", "brim") for x in lp.kind)), 0)
+    if k > 0:
+        return _plan(mesh, s, float(np.sum(first.heights[:k])), **given)
+    return first
+
+
+def _plan(mesh: Mesh, s: PrintSettings, sunk: float, *, workers, progress, layer_text, layer_drawing) -> PrintPlan:
+    """`plan`, the part lowered `sunk` mm into the bed."""
     import time
 
     from ..slicing.sections import slice_layers
-    s = settings or PrintSettings()
     t0 = time.perf_counter()
     if len(mesh) == 0:
         raise ValueError("the mesh has no facets: nothing to print")
     lo, hi = mesh.bounds
     check_bed(mesh, s)
+    lo = lo + np.array([0.0, 0.0, sunk])  # (the part lowered into the bed: below it, nothing prints)
     bounds = layer_bounds(float(hi[2] - lo[2]), s.layer_height, s.first_layer_height)
     if len(bounds) == 0:
         raise ValueError("the part is flat: nothing to print")
-    mid = lo[2] + bounds.mean(axis=1)
     # The modules the layers need load on a thread while the part is sliced (numpy lets go of
     # the GIL): forked workers then inherit them instead of importing each.
     # Loading them creates some 100,000 long-lived objects, and the garbage collector would walk
@@ -427,7 +450,7 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     try:
         warm = threading.Thread(target=_warm_imports, daemon=True)
         warm.start()
-        sections = slice_layers(mesh, heights=mid)
+        sections = slice_layers(mesh, heights=lo[2] + bounds.mean(axis=1))
         warm.join()
     finally:
         if collecting:
@@ -442,7 +465,7 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     offset = np.array([s.centre[0] - (lo[0] + hi[0]) / 2, s.centre[1] - (lo[1] + hi[1]) / 2, -lo[2]])
     text = None if layer_text is None or s.support != "off" else partial(layer_text, settings=s, offset=offset)
     drawing = None if s.support != "off" else layer_drawing
-    extent = _extent(lo[:2], hi[:2], sections[0], s)
+    extent = footprint_extent(lo[:2], hi[:2], sections[0], s)
     # Layers of a prism differ by the float32 rounding of the file's coordinates (walls lean by it).
     from ..mesh.repairs import default_tolerance
     tol = default_tolerance(mesh)
@@ -529,18 +552,7 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
     drawings = {r[0]: r[6] for r in results if r[6] is not None}
     t2 = time.perf_counter()
     return PrintPlan(s, layers, heights, offset, areas, float(np.sum(areas[:, 0] * heights)),
-                     {"slice": t1 - t0, "paths": t2 - t1}, overhangs, texts, extent, drawings)
-
-
-def _extent(lo: np.ndarray, hi: np.ndarray, first, s: PrintSettings) -> tuple:
-    """`PrintPlan.extent`: the footprint's box (`lo`, `hi`), and the first layer's box widened by
-    how far its skirt and brim reach."""
-    from .skirt import skirt_margin
-    margin = skirt_margin(s.line_width, s.skirt_loops, s.skirt_distance, s.brim_width)
-    if margin > 0 and len(first.segments):
-        flo, fhi = first.bounds()
-        lo, hi = np.minimum(lo, flo[:2] - margin), np.maximum(hi, fhi[:2] + margin)
-    return tuple(float(v) for v in (*lo, *hi))
+                     {"slice": t1 - t0, "paths": t2 - t1}, overhangs, texts, extent, drawings, sunk)
 
 
 def _with_supports(layers: list, sections: list, unheld: list, s: PrintSettings) -> list:
