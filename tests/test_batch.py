@@ -1,10 +1,14 @@
 """Batch runs: statuses and reasons, no lost report, resumable reruns; pool and Dask give the same summary;
-the command line and a batch write the same files for the same job."""
+the command line and a batch write the same files for the same job; each input its own output folder;
+pipes and devices reported unread; a time limit per file."""
 import csv
 import hashlib
 import importlib.util
 import json
 import os
+import re
+import shutil
+import subprocess
 import sys
 import time
 import xml.etree.ElementTree as ET
@@ -107,7 +111,7 @@ def test_profile_batch_statuses_reasons_and_reports(folder, profile_run):
         for path in output_files(rep):
             assert (out / path).exists()
         if status != "fail":
-            assert {Path(p).parent for p in output_files(rep)} == {Path(rel).with_suffix("")}
+            assert {Path(p).parent for p in output_files(rep)} == {Path(rel)}  # OUT/pot.stl/...
             root = ET.parse(out / rep["outputs"]["svg"]).getroot()
             assert {g.get("id") for g in root.iter("{http://www.w3.org/2000/svg}g")} >= {"section", "axis"}
     pot = json.loads((out / "pot.stl.json").read_text())["results"]
@@ -132,7 +136,7 @@ def test_rerun_skips_finished_files_and_resumes(folder, tmp_path):
     assert read_summary(out) == summary
     # Interrupted runs: a missing report, a missing output, a changed input are redone, nothing else.
     (out / "cube.stl.json").unlink()
-    (out / "pot" / "section.svg").unlink()
+    (out / "pot.stl" / "section.svg").unlink()
     slicelab.save(samples.box((0, 0, 0), (30, 20, 20)), tmp_path / "box.stl")
     bowl = folder / "vessels" / "bowl.stl"
     original = bowl.read_bytes()
@@ -241,6 +245,112 @@ def test_cli_batch(folder, tmp_path, capsys):
     assert main(["batch", str(folder), "-o", str(out), "--task", "inspect", "--workers", "0"]) == 2
     assert main(["batch", str(folder), "-o", str(out), "--task", "section", "--planes", "3"]) == 2
     assert "error" in capsys.readouterr().err
+    assert main(["batch", str(folder), "-o", str(out), "--task", "inspect", "--timeout", "-1"]) == 2
+    err = capsys.readouterr().err
+    assert "--timeout" in err and len(err.strip().splitlines()) == 1
+
+
+def test_batch_help_names_every_format(capsys):
+    with pytest.raises(SystemExit):
+        main(["batch", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert all(e in text for e in (".stl", ".ply", ".obj", ".3mf", "--timeout", "default 900 s"))
+    assert "*.stl" not in text and "STL file" not in text
+
+
+def _sha256(path) -> str:
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def _save_obj(mesh, path):
+    path.parent.mkdir(parents=True, exist_ok=True)
+    v = mesh.triangles.reshape(-1, 3)
+    lines = [f"v {x:.9g} {y:.9g} {z:.9g}" for x, y, z in v]
+    lines += [f"f {3 * k + 1} {3 * k + 2} {3 * k + 3}" for k in range(len(mesh.triangles))]
+    path.write_text("\n".join(lines) + "\n")
+
+
+def test_each_input_gets_its_own_output_folder_and_report(tmp_path):
+    """Inputs that differ by ending or by case only, and names on the batch's own summary.csv."""
+    scans, out = tmp_path / "scans", tmp_path / "out"
+    sides = {"dup.stl": 10, "dup.STL": 20, "dup.obj": 30, "summary.csv.stl": 40, "summary.csv/inner.stl": 50}
+    for name, side in sides.items():
+        box = samples.box((0, 0, 0), (side, side, 10))
+        _save_obj(box, scans / name) if name.endswith(".obj") else slicelab.save(box, scans / name)
+    params = task_parameters("section")
+    result = run_batch(scans, out, "section", params, workers=1, progress=False)
+    assert result.count("ok") == len(sides) and str(result).startswith("5 mesh files: 5 ok")
+    assert (out / "summary.csv").is_file()
+    rows = read_summary(out)
+    # 'dup.STL' sorts first and keeps its name; 'dup.stl' would share its folder on a case-insensitive disk.
+    assert {r["file"]: r["report"] for r in rows} == {
+        "dup.STL": "dup.STL.json", "dup.obj": "dup.obj.json", "dup.stl": "dup.stl~2.json",
+        "summary.csv.stl": "summary.csv.stl.json", "summary.csv/inner.stl": "summary.csv~2/inner.stl.json"}
+    for row in rows:  # each report and each output is its own input's
+        rep = json.loads((out / row["report"]).read_text())
+        assert rep["file"] == row["file"] and rep["input"]["sha256"] == _sha256(scans / row["file"])
+        (svg,) = output_files(rep)
+        assert Path(svg).parent.as_posix() + ".json" == row["report"]  # the folder beside its report
+        area = float(re.search(r"area ([0-9.e+]+) mm2", (out / svg).read_text()).group(1))
+        assert area == pytest.approx(sides[row["file"]] ** 2, rel=1e-6)
+    names = [p.name for p in out.iterdir()]
+    assert len({n.casefold() for n in names}) == len(names)
+    again = run_batch(scans, out, "section", params, workers=1, progress=False)
+    assert (again.ran, again.skipped) == (0, len(sides)) and read_summary(out) == rows
+    # A report whose outputs lie in a folder of the old layout, shared by dup.*, is not up to date.
+    rep = json.loads((out / "dup.obj.json").read_text())
+    (out / "dup").mkdir()
+    shutil.copy(out / rep["outputs"]["svg"], out / "dup" / "section.svg")
+    rep["outputs"]["svg"] = "dup/section.svg"
+    (out / "dup.obj.json").write_text(json.dumps(rep))
+    assert run_batch(scans, out, "section", params, workers=1, progress=False).ran == 1
+    assert json.loads((out / "dup.obj.json").read_text())["outputs"]["svg"] == "dup.obj/section.svg"
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes: POSIX")
+def test_pipes_and_devices_are_reported_not_read(tmp_path):
+    """Reading a named pipe that nobody writes never ends: the batch runs in a subprocess, so that a
+    regression fails instead of hanging the tests."""
+    scans, out = tmp_path / "scans", tmp_path / "out"
+    slicelab.save(samples.box((0, 0, 0), (10, 10, 10)), scans / "cube.stl")
+    os.mkfifo(scans / "pipe.stl")
+    (scans / "link.stl").symlink_to(scans / "cube.stl")  # a link to a file is that file
+    devices = Path("/dev/null").exists() and not Path("/dev/null").is_file()
+    if devices:
+        (scans / "null.obj").symlink_to("/dev/null")
+    command = [sys.executable, "-m", "slicelab", "batch", str(scans), "-o", str(out), "--task", "inspect",
+               "--no-progress"]
+    for more in (["--workers", "1", "--timeout", "0"], ["--workers", "2"]):  # in the process, then on workers
+        proc = subprocess.run(command + more, cwd=tmp_path, capture_output=True, text=True, timeout=300)
+        assert proc.returncode == 1, proc.stdout[-2000:] + proc.stderr[-2000:]
+        assert "fail pipe.stl: not a regular file but a named pipe (FIFO): not read" in proc.stdout
+    rows = {r["file"]: r for r in read_summary(out)}
+    assert (rows["pipe.stl"]["status"], rows["pipe.stl"]["reasons"]) == ("fail", "not_a_file")
+    assert json.loads((out / "pipe.stl.json").read_text())["reasons"][0]["code"] == "not_a_file"
+    assert rows["link.stl"]["status"] == rows["cube.stl"]["status"] == "ok"
+    assert rows["link.stl"]["sha256"] == rows["cube.stl"]["sha256"] == _sha256(scans / "cube.stl")
+    if devices:
+        assert rows["null.obj"]["reasons"] == "not_a_file" and "character device" in rows["null.obj"]["messages"]
+
+
+def test_cli_batch_time_limit_per_file(tmp_path, capsys):
+    """The limit counts every file's whole run: 1 ms is too short for any real file."""
+    scans, out = tmp_path / "scans", tmp_path / "out"
+    slicelab.save(samples.pot(40, 120), scans / "pot.stl")
+    slicelab.save(samples.pot(30, 60), scans / "small" / "pot.stl")
+    args = ["batch", str(scans), "-o", str(out), "--task", "section", "--workers", "1", "--no-progress"]
+    assert main(args + ["--timeout", "0.001"]) == 1
+    text = capsys.readouterr().out
+    assert "2 mesh files: 0 ok, 0 warn, 2 fail" in text and "time limit" in text
+    rows = read_summary(out)
+    assert [(r["file"], r["status"], r["reasons"]) for r in rows] == \
+        [("pot.stl", "fail", "timeout"), ("small/pot.stl", "fail", "timeout")]
+    rep = json.loads((out / "pot.stl.json").read_text())
+    assert rep["time_limit"] == 0.001 and "0.001 s" in rep["reasons"][0]["message"]
+    # The same limit: not run again; a longer one (the default, 900 s) runs them, and they pass.
+    assert main(args + ["--timeout", "0.001"]) == 1 and "(0 run, 2 up to date" in capsys.readouterr().out
+    assert main(args) == 0 and "2 mesh files: 2 ok" in capsys.readouterr().out
+    assert [r["status"] for r in read_summary(out)] == ["ok", "ok"]
 
 
 def test_bad_parameters():
@@ -278,9 +388,10 @@ def test_cli_and_batch_write_the_same_files(tmp_path, job, cli_args, options):
     assert main([job, str(scans / "pot.stl"), *cli_args, "-o", str(tmp_path / "cli")]) == 0
     result = run_batch(scans, tmp_path / "batch", job, task_parameters(job, **options), workers=1, progress=False)
     assert result.count("ok") == 1
-    cli, bat = tmp_path / "cli", tmp_path / "batch" / "pot"
-    names = sorted(p.name for p in cli.iterdir())
-    assert names == sorted(p.name for p in bat.iterdir()) and len(names) >= 3
+    cli, bat = tmp_path / "cli", tmp_path / "batch" / "pot.stl"
+    # The outputs; hidden files are the folder's own bookkeeping (a manifest), not outputs.
+    names = sorted(p.name for p in cli.iterdir() if not p.name.startswith("."))
+    assert names == sorted(p.name for p in bat.iterdir() if not p.name.startswith(".")) and len(names) >= 3
     assert sorted(Path(p).name for p in output_files(result.reports[0])) == names
     for name in names:
         if name.endswith((".svg", ".json")):
@@ -334,49 +445,3 @@ def test_a_cluster_with_no_worker_left_ends_with_a_clear_error(tmp_path, monkeyp
         assert time.time() - t0 < 60
     rows = read_summary(tmp_path / "out")
     assert [r["status"] for r in rows] == ["fail"] * 3 and all("no worker left" in r["messages"] for r in rows)
-
-
-def _descendants(pid: int) -> set[int]:
-    """Every living process below `pid` (from /proc)."""
-    children: dict[int, list[int]] = {}
-    for entry in os.listdir("/proc"):
-        if entry.isdigit():
-            try:
-                with open(f"/proc/{entry}/stat") as fh:
-                    ppid = int(fh.read().rsplit(")", 1)[1].split()[1])
-            except (OSError, ValueError, IndexError):
-                continue
-            children.setdefault(ppid, []).append(int(entry))
-    out, stack = set(), [pid]
-    while stack:
-        for c in children.get(stack.pop(), []):
-            out.add(c)
-            stack.append(c)
-    return out
-
-
-@pytest.mark.skipif(not Path("/proc").is_dir(), reason="needs /proc (Linux)")
-def test_killing_a_batch_ends_its_worker_processes(tmp_path):
-    import signal
-    import subprocess
-    scans = tmp_path / "scans"
-    for k in range(8):
-        slicelab.save(samples.pot(40, 120), scans / f"pot{k}.stl")
-    proc = subprocess.Popen([sys.executable, "-m", "slicelab", "batch", str(scans), "-o", str(tmp_path / "out"),
-                             "--task", "profile", "--workers", "2", "--no-progress"],
-                            stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
-    deadline = time.time() + 60
-    below = set()
-    while time.time() < deadline and len(below) < 3:  # the fork server and two workers
-        time.sleep(0.2)
-        below = _descendants(proc.pid)
-    assert len(below) >= 2, "the batch never started its workers"
-    os.kill(proc.pid, signal.SIGKILL)
-    proc.wait()
-    deadline = time.time() + 30
-    alive = below
-    while alive and time.time() < deadline:
-        time.sleep(0.2)
-        alive = {p for p in alive if Path(f"/proc/{p}").exists()
-                 and "Z" not in Path(f"/proc/{p}/stat").read_text().rsplit(")", 1)[1].split()[0]}
-    assert not alive, f"worker processes still running after the batch was killed: {sorted(alive)}"

@@ -42,12 +42,15 @@ DOCS = {
                        'the archaeological profile drawing (SVG, 1:1 in mm) and print the measurements.',
     },
     "batch": {
-        "help": 'run one task over every STL file under a folder (resumable)',
-        "description": 'Run --task on every *.stl under DIR: one JSON report per file (input SHA-256, parameters, '
-                       'outputs, timings, status ok/warn/fail and reasons) in OUT, the outputs in a folder named '
-                       'after the file (the same names as the command of the same name writes), and '
-                       'OUT/summary.csv. Files whose report is up to date are skipped. Runs on local processes, or '
-                       "on a Dask cluster given --scheduler (pip install 'slicelab[cluster]').",
+        "help": 'run one task over every mesh file (STL, PLY, OBJ, 3MF) under a folder (resumable)',
+        "description": 'Run --task on every .stl, .ply, .obj and .3mf file under DIR (any case): one JSON report '
+                       'per file (input SHA-256, parameters, outputs, timings, status ok/warn/fail and reasons) in '
+                       'OUT, the outputs in a folder named after the file, extension kept (OUT/pot.stl/ beside '
+                       'OUT/pot.stl.json; the same file names as the command of the same name writes; names that '
+                       'would clash, even by case only, get a suffix ~2), and OUT/summary.csv. A file that is not '
+                       'a regular file (a named pipe, a device) is reported, never read. Files whose report is up '
+                       'to date are skipped. Runs on local processes, or on a Dask cluster given --scheduler '
+                       "(pip install 'slicelab[cluster]').",
     },
 }
 
@@ -170,6 +173,8 @@ def _run_profile(args) -> int:
     return 0
 
 
+_TIMEOUT = 900.0  # seconds per file: generous, so that only a stuck file meets it
+
 _BATCH_OPTIONS = [
     ("--layer-height", dict(type=positive, metavar="H", help="layers: layer height (mm)")),
     ("--no-svg", dict(dest="svg", action="store_false", help="layers: layers.json only")),
@@ -195,7 +200,12 @@ def _add_batch(sub) -> None:
         t.add_argument(flag, default=GIVEN, **kw)
     r = p.add_argument_group("running")
     r.add_argument("--workers", type=int, metavar="N",
-                   help="local processes (default: CPU count; 1: in this process)")
+                   help="local processes (default: CPU count; 1: one worker process, or with --timeout 0 this "
+                        "process)")
+    r.add_argument("--timeout", type=float, default=_TIMEOUT, metavar="SECONDS",
+                   help=f"time limit per file (default {_TIMEOUT:g} s; 0: none): a file past it fails with the "
+                        f"reason timeout and the batch goes on; its local worker process is killed, a Dask task "
+                        f"cancelled (its worker may still finish it)")
     r.add_argument("--scheduler", metavar="ADDRESS", help="Dask scheduler, e.g. tcp://host:8786")
     r.add_argument("--force", action="store_true", help="rerun files whose report is up to date")
     r.add_argument("--retry-failed", action="store_true", help="rerun files whose report says fail")
@@ -210,6 +220,8 @@ def _run_batch(args) -> int:
         raise UsageError(f"{args.folder}: not a folder")
     if args.workers is not None and args.workers < 1:
         raise UsageError("--workers must be at least 1")
+    if not args.timeout >= 0:
+        raise UsageError(f"--timeout must be a number of seconds, 0 for no limit; got {args.timeout:g}")
     options = {n: getattr(args, n) for n in ("min_size", "max_size") if hasattr(args, n)}
     given = plane(args, required=False)
     if given is not None:
@@ -222,7 +234,8 @@ def _run_batch(args) -> int:
     try:
         result = run_batch(args.folder, args.output, args.task, params, workers=args.workers,
                            scheduler=args.scheduler, force=args.force, retry_failed=args.retry_failed,
-                           progress=False if args.no_progress else None, exclude=args.exclude)
+                           progress=False if args.no_progress else None, exclude=args.exclude,
+                           timeout=None if args.timeout in (0, float("inf")) else args.timeout)
     except NoWorkersLeft as exc:
         print(f"slicelab: error: {exc}", file=sys.stderr)
         return 1

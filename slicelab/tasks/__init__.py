@@ -7,6 +7,7 @@
 ``tasks.limits``            work estimated from the part and refused up front when impossible
 ``tasks.plates``            build plates written: one STL each, placements, top views
 ``tasks.executors``         `run_jobs`: in this process, local processes or Dask
+``tasks.outputs``           each batch input's own output folder and report name
 ``tasks.batch``             `run_batch` over a folder: reports, summary, resuming
 ==========================  =====================================================
 """

@@ -1,12 +1,15 @@
-"""Batch runs: one job over every STL under a folder, locally or on a Dask cluster.
+"""Batch runs: one job over every mesh file under a folder, locally or on a Dask cluster.
 
 Every file gets a JSON report (input SHA-256, parameters, outputs, timings,
 status ok / warn / fail and the reasons) and a row in ``summary.csv``; its
-outputs go to a folder of their own named after it, under the job's own file
-names (the same as on the command line: ``pot.stl`` -> ``OUT/pot.stl.json``
-and ``OUT/pot/section.svg``). A broken file fails alone; the batch carries
-on. A file whose report is up to date (same content, job, parameters and
-slicelab version, outputs present) is skipped, so an interrupted batch
+outputs go to a folder of their own named after it, extension kept, under
+the job's own file names (the same as on the command line: ``pot.stl`` ->
+``OUT/pot.stl.json`` and ``OUT/pot.stl/section.svg``; names that would
+clash get a suffix, see `slicelab.tasks.outputs`). A broken file fails
+alone; the batch carries on. So does a file that is not a regular file (a
+named pipe, a device: never opened) and a file that runs past the time
+limit. A file whose report is up to date (same content, job, parameters
+and slicelab version, outputs present) is skipped, so an interrupted batch
 resumes where it stopped. Files run on a local process pool, or on a Dask
 distributed cluster given its scheduler address (the optional extra
 ``slicelab[cluster]``), through `slicelab.tasks.executors.run_jobs`: a lab
@@ -16,12 +19,14 @@ client writes the reports, so a worker lost mid-file still leaves a report.
 """
 from __future__ import annotations
 
+import contextlib
 import csv
 import fnmatch
 import hashlib
 import json
 import os
 import socket
+import stat
 import sys
 import time
 from dataclasses import dataclass, field
@@ -33,16 +38,17 @@ import numpy as np
 from .. import __version__
 from ..export.files import atomic_open
 from ..mesh.io import MeshFileError
-from .executors import run_jobs
+from .executors import TimedOut, run_jobs
 from .limits import likely_units
 from .jobs import JOBS, TASKS, job_parameters, run_job
+from .outputs import output_names
 from .spec import ParameterError, choice, number, plain, reason
 
 __all__ = ["TASKS", "BatchResult", "task_parameters", "find_mesh_files", "process_file", "run_batch",
            "write_summary"]
 
 STATUSES = ("ok", "warn", "fail")
-_FAILING = {"unreadable", "task_error", "task_unavailable", "worker_lost"}
+_FAILING = {"unreadable", "not_a_file", "task_error", "task_unavailable", "worker_lost", "timeout"}
 _BATCH = ("min_size", "max_size", "units", "scale")  # parameters of the batch itself, beside the job's
 
 
@@ -103,13 +109,15 @@ def task_parameters(task: str, *, origin=None, normal=None, min_size: float = 2.
     return {**p, **job_parameters(task, **options)}
 
 
-_MESH_ENDINGS = (".stl", ".ply", ".obj")
+_MESH_ENDINGS = (".stl", ".ply", ".obj", ".3mf")
 
 
 def find_mesh_files(root, exclude=None, patterns=()) -> tuple[list[Path], int]:
-    """Every mesh file (``.stl``, ``.ply``, ``.obj``, any case) under `root`, sorted; and how many
-    other files were passed over.
+    """Every mesh file (``.stl``, ``.ply``, ``.obj``, ``.3mf``, any case) under `root`, sorted; and how
+    many other files were passed over.
 
+    Files are picked by their names alone: one that is not a regular file (a
+    named pipe, a device) is found too, for `process_file` to report.
     Hidden files and folders (a leading dot: temporary ``.part`` files),
     anything under `exclude` (the output folder) and paths relative to `root`
     matching one of the glob `patterns` (``large/*``, ``*_raw.stl``) are left out.
@@ -159,10 +167,15 @@ def _status(reasons) -> str:
     return "warn" if reasons else "ok"
 
 
-def _paths(out: Path, rel: str) -> tuple[Path, Path]:
-    """The report's path and the folder of a file's outputs, mirroring its place under DIR."""
-    r = Path(rel)
-    return out / r.parent / f"{r.name}.json", out / r.parent / Path(r.name).stem
+_KINDS = ((stat.S_ISDIR, "a folder"), (stat.S_ISFIFO, "a named pipe (FIFO)"),
+          (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"), (stat.S_ISSOCK, "a socket"))
+
+
+def _not_a_file(st: os.stat_result) -> str | None:
+    """What the file is, when it is not a regular file: reading a pipe or a device may never end."""
+    if stat.S_ISREG(st.st_mode):
+        return None
+    return next((what for test, what in _KINDS if test(st.st_mode)), "not a regular file")
 
 
 def _mesh_reasons(report, params) -> list[dict]:
@@ -180,12 +193,22 @@ def _mesh_reasons(report, params) -> list[dict]:
     return reasons
 
 
-def process_file(path, root, out, task: str, params: dict) -> dict:
+class _Refused(Exception):
+    """A file refused before it is opened, with the reason for its report."""
+
+    def __init__(self, why: dict):
+        super().__init__(why["message"])
+        self.reason = why
+
+
+def process_file(path, root, out, task: str, params: dict, name: str | None = None) -> dict:
     """Run one job on one file and return its report (never raises for a bad file).
 
-    Writes the job's outputs under `out` (in a folder named after the file,
-    mirroring its place under `root`); the report itself is returned, for
-    the caller to write.
+    Writes the job's outputs under `out`, in the folder `name` (default: the
+    file's path under `root`, as `slicelab.tasks.outputs.output_names` names
+    it when nothing clashes); the report itself is returned, for the caller
+    to write. A file that is not a regular file (a named pipe, a device) is
+    never opened: it fails with the reason ``not_a_file``.
 
     Examples
     --------
@@ -200,7 +223,7 @@ def process_file(path, root, out, task: str, params: dict) -> dict:
     t_start = time.perf_counter()
     path, root, out = Path(path), Path(root), Path(out)
     rel = path.relative_to(root).as_posix()
-    _, folder = _paths(out, rel)
+    folder = out / (name or rel)
     rep = {"slicelab": __version__, "file": rel, "path": str(path.resolve()), "task": task,
            "parameters": params, "status": "fail", "reasons": [], "input": {}, "check": None,
            "results": {}, "outputs": {}, "timings": {}, "worker": f"{socket.gethostname()}:{os.getpid()}",
@@ -209,6 +232,9 @@ def process_file(path, root, out, task: str, params: dict) -> dict:
     try:
         t0 = time.perf_counter()
         st = path.stat()
+        what = _not_a_file(st)
+        if what is not None:
+            raise _Refused(reason("not_a_file", f"not a regular file but {what}: not read"))
         rep["input"] = {"sha256": _sha256(path), "size": st.st_size, "mtime_ns": st.st_mtime_ns}
         t1 = time.perf_counter()
         mesh = load(path, **{k: params[k] for k in ("units", "scale") if params.get(k) is not None})
@@ -223,6 +249,8 @@ def process_file(path, root, out, task: str, params: dict) -> dict:
         timings["task"] = time.perf_counter() - t3
         rep["outputs"], rep["results"] = result.relative_outputs(out), result.results
         reasons += [r for r in result.reasons if r["code"] not in {q["code"] for q in reasons}]
+    except _Refused as exc:
+        reasons.append(exc.reason)
     except MeshFileError as exc:
         reasons.append(reason("unreadable", exc.reason))
     except OSError as exc:
@@ -238,13 +266,20 @@ def process_file(path, root, out, task: str, params: dict) -> dict:
     return plain(rep)
 
 
-def _lost_report(path: Path, root: Path, task: str, params: dict, why: str) -> dict:
-    """The report of a file whose worker died: written by the client, retried on the next run."""
+def _lost_report(path: Path, root: Path, task: str, params: dict, why: str, timeout: float | None) -> dict:
+    """The report of a file whose worker died (retried on the next run) or that ran past the time
+    limit (retried when the limit is raised): written by the client."""
     rel = path.relative_to(root).as_posix()
-    return {"slicelab": __version__, "file": rel, "path": str(path.resolve()), "task": task,
-            "parameters": params, "status": "fail", "reasons": [reason("worker_lost", why)],
-            "transient": True, "input": {}, "check": None, "results": {}, "outputs": {}, "timings": {},
-            "started": _now(), "finished": _now()}
+    timed_out = isinstance(why, TimedOut)
+    rep = {"slicelab": __version__, "file": rel, "path": str(path.resolve()), "task": task, "parameters": params,
+           "status": "fail", "reasons": [reason("timeout" if timed_out else "worker_lost", str(why))],
+           "input": {}, "check": None, "results": {}, "outputs": {}, "timings": {}, "started": _now(),
+           "finished": _now()}
+    rep.update({"time_limit": timeout} if timed_out else {"transient": True})
+    with contextlib.suppress(OSError):  # not read (it may be what took so long): a rerun compares these
+        st = path.stat()
+        rep["input"] = {"size": st.st_size, "mtime_ns": st.st_mtime_ns}
+    return rep
 
 
 def _output_files(outputs: dict) -> list[str]:
@@ -254,32 +289,39 @@ def _output_files(outputs: dict) -> list[str]:
     return files
 
 
-def _up_to_date(report_path: Path, path: Path, out: Path, task: str, params: dict, retry_failed: bool):
+def _up_to_date(name: str, rel: str, path: Path, out: Path, task: str, params: dict, retry_failed: bool,
+                timeout: float | None = None):
     try:
-        rep = json.loads(report_path.read_text(encoding="utf-8"))
+        rep = json.loads((out / f"{name}.json").read_text(encoding="utf-8"))
     except (OSError, ValueError):
         return None
-    if (rep.get("slicelab") != __version__ or rep.get("task") != task or rep.get("parameters") != params
-            or rep.get("transient") or rep.get("status") not in STATUSES
+    if (rep.get("file") != rel or rep.get("slicelab") != __version__ or rep.get("task") != task
+            or rep.get("parameters") != params or rep.get("transient") or rep.get("status") not in STATUSES
             or (retry_failed and rep.get("status") == "fail")):
         return None
+    if any(r.get("code") == "timeout" for r in rep.get("reasons") or []) and (
+            timeout is None or timeout > (rep.get("time_limit") or float("inf"))):
+        return None  # more time now than the run that stopped it had
     try:
         st = path.stat()
     except OSError:
+        return None
+    if _not_a_file(st) is not None:  # never hashed: reading a pipe may never end
         return None
     inp = rep.get("input") or {}
     if inp.get("size") != st.st_size:
         return None
     if inp.get("mtime_ns") != st.st_mtime_ns and inp.get("sha256") != _sha256(path):
         return None
-    if not all((out / o).exists() for o in _output_files(rep.get("outputs") or {})):
+    files = _output_files(rep.get("outputs") or {})
+    # Each output in the file's own folder (not in one an older layout shared), and there.
+    if not all(o.startswith(f"{name}/") and (out / o).exists() for o in files):
         return None
     return rep
 
 
-def _write_report(out: Path, rep: dict) -> None:
-    report_path, _ = _paths(out, rep["file"])
-    with atomic_open(report_path, "w", encoding="utf-8") as fh:
+def _write_report(out: Path, name: str, rep: dict) -> None:
+    with atomic_open(out / f"{name}.json", "w", encoding="utf-8") as fh:
         json.dump(rep, fh, indent=1, allow_nan=False)
         fh.write("\n")
 
@@ -294,8 +336,12 @@ def _fmt(v) -> str:
     return str(v)
 
 
-def write_summary(out, reports: list[dict], task: str) -> Path:
+def write_summary(out, reports: list[dict], task: str, names: dict | None = None) -> Path:
     """Write ``summary.csv``: one row per file, in file order, no timings (reruns give the same file).
+
+    `names` maps each report's file to its name under `out` (default:
+    `slicelab.tasks.outputs.output_names` of the reports' files); the column
+    ``report`` gives each report's path.
 
     Examples
     --------
@@ -307,6 +353,7 @@ def write_summary(out, reports: list[dict], task: str) -> Path:
     cols = ["file", "status", "reasons", "messages", "sha256", "facets", "watertight", "shells",
             "size_x", "size_y", "size_z", "volume", *JOBS[task].columns, "report"]
     path = Path(out) / "summary.csv"
+    names = names if names is not None else output_names(r["file"] for r in reports)
     with atomic_open(path, "w", encoding="utf-8", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(cols)
@@ -321,7 +368,7 @@ def write_summary(out, reports: list[dict], task: str) -> Path:
                    "sha256": (rep.get("input") or {}).get("sha256"), "facets": chk.get("n_facets"),
                    "watertight": chk.get("watertight"), "shells": chk.get("n_shells"),
                    "size_x": size[0], "size_y": size[1], "size_z": size[2], "volume": chk.get("volume"),
-                   "report": _paths(Path("."), rep["file"])[0].as_posix()}
+                   "report": f"{names[rep['file']]}.json"}
             row.update({c: res.get(c) for c in JOBS[task].columns})
             w.writerow([_fmt(row[c]) for c in cols])
     return path
@@ -334,11 +381,11 @@ class BatchResult:
     Attributes
     ----------
     reports : list of dict
-        One per STL file, in file order (fresh or kept from an earlier run).
+        One per mesh file, in file order (fresh or kept from an earlier run).
     ran, skipped : int
         Files processed now, and files whose report was up to date.
     ignored : int
-        Files under DIR that are not ``*.stl``.
+        Files under DIR that are not mesh files (by their endings).
     summary : Path
     seconds : float
     """
@@ -355,7 +402,7 @@ class BatchResult:
         return sum(r["status"] == status for r in self.reports)
 
     def __str__(self) -> str:
-        return (f"{len(self.reports)} STL files: {self.count('ok')} ok, {self.count('warn')} warn, "
+        return (f"{len(self.reports)} mesh files: {self.count('ok')} ok, {self.count('warn')} warn, "
                 f"{self.count('fail')} fail ({self.ran} run, {self.skipped} up to date, "
                 f"{self.ignored} other files ignored) in {self.seconds:.1f} s")
 
@@ -369,22 +416,26 @@ _PRELOAD = ["slicelab.tasks.batch", "slicelab.mesh", "slicelab.slicing", "slicel
 
 def run_batch(root, out, task: str = "inspect", params: dict | None = None, *, workers: int | None = None,
               scheduler: str | None = None, force: bool = False, retry_failed: bool = False,
-              progress: bool | None = None, exclude=()) -> BatchResult:
-    """Run `task` over every STL file under `root`, writing reports and outputs under `out`.
+              progress: bool | None = None, exclude=(), timeout: float | None = None) -> BatchResult:
+    """Run `task` over every mesh file under `root`, writing reports and outputs under `out`.
 
     Parameters
     ----------
     root : path
-        Folder searched recursively for ``*.stl``.
+        Folder searched recursively for mesh files (`find_mesh_files`: ``.stl``,
+        ``.ply``, ``.obj``, ``.3mf``, any case).
     out : path
-        Output folder, mirroring the tree under `root`: per file
-        ``<name>.stl.json`` (the report) and a folder ``<name>/`` of the job's
-        outputs (the same file names as on the command line); ``summary.csv``.
+        Output folder, mirroring the tree under `root`: per file, its report
+        ``pot.stl.json`` and a folder ``pot.stl/`` of the job's outputs (the
+        same file names as on the command line), extension kept, with a
+        suffix (``~2``) for names that would clash, even if only by case
+        (`slicelab.tasks.outputs.output_names`); and ``summary.csv``.
     task : {"inspect", "section", "split", "profile", "layers"}
     params : dict, optional
         From `task_parameters` (checked again here; defaults for `task` if omitted).
     workers : int, optional
-        Local processes (default: CPU count); 1 runs in this process.
+        Local processes (default: CPU count); 1 runs in this process, or with
+        a `timeout` in one worker process.
     scheduler : str, optional
         Address of a Dask distributed scheduler (``tcp://host:8786``); the
         files then run on its workers and `workers` is ignored.
@@ -396,6 +447,13 @@ def run_batch(root, out, task: str = "inspect", params: dict | None = None, *, w
         tqdm progress bar on stderr (default: when stderr is a terminal).
     exclude : sequence of str
         Glob patterns of paths under `root` to leave out (``large/*``).
+    timeout : float, optional
+        Seconds one file may take (None: no limit; the command line's default
+        is 900). A file past it fails with the reason ``timeout`` and the batch
+        goes on; locally its worker process is killed and replaced, on Dask its
+        task is cancelled, though the Dask worker may go on running it
+        (`slicelab.tasks.executors.run_jobs`). It is not retried by reruns
+        unless the limit is raised, or with `retry_failed`.
 
     Returns
     -------
@@ -418,35 +476,48 @@ def run_batch(root, out, task: str = "inspect", params: dict | None = None, *, w
     root, out = Path(root).resolve(), Path(out).resolve()
     if not root.is_dir():
         raise ValueError(f"{root}: not a folder")
+    if timeout is not None and not timeout > 0:
+        raise ValueError(f"timeout must be a positive number of seconds, not {timeout!r}")
     params = task_parameters(task, **(params or {}))  # checked, whoever made them
     out.mkdir(parents=True, exist_ok=True)
     files, ignored = find_mesh_files(root, exclude=out, patterns=tuple(exclude))
+    names = output_names(path.relative_to(root).as_posix() for path in files)
     reports: dict[str, dict] = {}
-    jobs = []
+    jobs, refused = [], []
     for path in files:
         rel = path.relative_to(root).as_posix()
-        kept = None if force else _up_to_date(_paths(out, rel)[0], path, out, task, params, retry_failed)
+        job = (str(path), str(root), str(out), task, params, names[rel])
+        try:
+            odd = _not_a_file(path.stat()) is not None
+        except OSError:  # gone, or a broken link: the job says so
+            odd = False
+        kept = None if force or odd else _up_to_date(names[rel], rel, path, out, task, params, retry_failed,
+                                                     timeout)
         if kept is not None:
             reports[rel] = kept
         else:
-            jobs.append((str(path), str(root), str(out), task, params))
-    bar = tqdm(total=len(files), initial=len(files) - len(jobs), unit="file", desc=f"slicelab {task}",
+            (refused if odd else jobs).append(job)
+    bar = tqdm(total=len(files), initial=len(reports), unit="file", desc=f"slicelab {task}",
                disable=(not sys.stderr.isatty()) if progress is None else not progress, file=sys.stderr)
 
     def on_done(job, rep, lost):
         if rep is None:
-            rep = _lost_report(Path(job[0]), Path(job[1]), task, params, lost)
-        _write_report(out, rep)
+            rep = _lost_report(Path(job[0]), Path(job[1]), task, params, lost, timeout)
+        _write_report(out, names[rep["file"]], rep)
         reports[rep["file"]] = rep
         bar.update(1)
         bar.set_postfix_str(f"{rep['file']}: {rep['status']}", refresh=False)
 
     try:
-        run_jobs(process_file, jobs, workers=workers, scheduler=scheduler, on_done=on_done, preload=_PRELOAD)
+        for job in refused:  # a pipe or a device: refused here at once, unread, without a worker
+            on_done(job, process_file(*job), None)
+        run_jobs(process_file, jobs, workers=workers, scheduler=scheduler, on_done=on_done, preload=_PRELOAD,
+                 timeout=timeout)
     finally:
         bar.close()
         ordered = [reports[k] for k in sorted(reports)]
-        summary = write_summary(out, ordered, task)
-    return BatchResult(ordered, len(jobs), len(files) - len(jobs), ignored, summary, time.perf_counter() - t0)
+        summary = write_summary(out, ordered, task, names)
+    ran = len(jobs) + len(refused)
+    return BatchResult(ordered, ran, len(files) - ran, ignored, summary, time.perf_counter() - t0)
 
 
