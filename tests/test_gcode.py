@@ -587,3 +587,19 @@ def test_compiled_stream_time_is_move_times_summed(seed):
     starts = np.vstack([start, ends[:-1]])
     want = float(move_times(starts, ends, np.round(rows[:, 3], 5), rows[:, 4], acceleration=1250.0, jerk=9.0).sum())
     assert stream_seconds(rows, start, 1250.0, 9.0) == want
+
+
+@pytest.mark.parametrize("compiled", [True, False])
+def test_travel_lifts_stay_under_the_printer_height(tmp_path, compiled):
+    # A part whose top is the printer's height: the lift before a travel on its last layers is cut
+    # to what is left, by both writers (before, they lifted the nozzle 0.2 mm past the top).
+    import re
+
+    from slicelab.export import write_gcode
+    from slicelab.samples import sphere
+    from slicelab.toolpath import PrintSettings, plan
+    ball = sphere(8)
+    p = plan(ball, PrintSettings(max_height=16.0), workers=1)
+    write_gcode(p, tmp_path / "b.gcode", workers=1, compiled=compiled)
+    zs = [float(z) for z in re.findall(r"^G1 Z([\d.]+)", (tmp_path / "b.gcode").read_text(), flags=re.M)]
+    assert max(zs) == pytest.approx(16.0) and p.z[-1] == pytest.approx(16.0)   # (16.2 before)

@@ -33,7 +33,7 @@ from ..toolpath.settings import settings_dict
 from ..toolpath.printers import MARLIN_END, MARLIN_START, render_gcode
 from ..toolpath.roles import STYLES
 from .files import atomic_open
-from .layer_inputs import SMALL_PERIMETER, CompiledLayer, WriterSettings, kind_speeds
+from .layer_inputs import SMALL_PERIMETER, CompiledLayer, WriterSettings, kind_speeds, lift_at
 from .text_kernels import fixed
 
 __all__ = ["write_gcode", "gcode_lines", "header_value", "layer_fan", "layer_texts"]
@@ -383,10 +383,10 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
     k_e = s.extrusion_multiplier / s.filament_area
     speeds = kind_speeds(s)
     travel_feed, retract_feed = round(60 * s.travel_speed) / 60, round(60 * s.retraction_speed) / 60
-    retract, lift, min_travel = s.retraction_length, s.z_lift, s.retract_min_travel
+    z = lp.z + 0.0
+    retract, lift, min_travel = s.retraction_length, lift_at(z, s.z_lift, s.max_height), s.retract_min_travel
     first_speed, small_speed, min_speed = s.first_layer_speed, s.small_perimeter_speed, s.min_print_speed
     travel_f, retract_f = f"{60 * s.travel_speed:.0f}", f"{60 * s.retraction_speed:.0f}"
-    z = lp.z + 0.0
     out = [f"G1 Z{z:.3f} F{travel_f}\n"]
     x, y, _ = moves.last
     moves.point(x, y, z, 0.0, travel_feed)

@@ -21,7 +21,7 @@ import numpy as np
 from ..toolpath.roles import STYLES
 from .text_kernels import layer_moves
 
-__all__ = ["SMALL_PERIMETER", "KIND_INDEX", "WORD_BYTES", "WORD_AT", "PERIMETER_KINDS", "BRIDGE", "kind_speeds",
+__all__ = ["SMALL_PERIMETER", "KIND_INDEX", "lift_at", "WORD_BYTES", "WORD_AT", "PERIMETER_KINDS", "BRIDGE", "kind_speeds",
            "WriterSettings", "CompiledLayer"]
 
 #: Perimeter loops shorter than this (mm), a circle of radius 6.5 mm, are small (PrusaSlicer's rule).
@@ -54,6 +54,17 @@ def kind_speeds(s) -> dict:
             "skirt": s.first_layer_speed, "brim": s.first_layer_speed}
 
 
+def lift_at(z: float, lift: float, max_height: float) -> float:
+    """The nozzle's lift on travels at height `z`: `lift`, but never above the printer's `max_height`.
+
+    Examples
+    --------
+    >>> lift_at(10.0, 0.2, 210.0), lift_at(209.9, 0.2, 210.0) < 0.1 + 1e-9, lift_at(210.0, 0.2, 210.0)
+    (0.2, True, 0.0)
+    """
+    return float(min(lift, max(0.0, max_height - z)))
+
+
 @dataclass(frozen=True, eq=False)
 class WriterSettings:
     """The settings as the compiled writer takes them, made once for many layers: each kind's
@@ -65,6 +76,7 @@ class WriterSettings:
     travel: str
     travel_f: np.ndarray
     retract_f: np.ndarray
+    max_height: float = math.inf
 
     @classmethod
     def of(cls, s) -> "WriterSettings":
@@ -77,7 +89,8 @@ class WriterSettings:
                             float(s.acceleration), float(s.jerk)])
         return cls(np.array([float(speeds[kind]) for kind in STYLES]), numbers, travel,
                    np.frombuffer(travel.encode("ascii"), np.uint8).copy(),
-                   np.frombuffer(f"{60 * s.retraction_speed:.0f}".encode("ascii"), np.uint8).copy())
+                   np.frombuffer(f"{60 * s.retraction_speed:.0f}".encode("ascii"), np.uint8).copy(),
+                   float(s.max_height))
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,6 +119,7 @@ class CompiledLayer:
         numbers = w.numbers.copy()
         numbers[:2] = z, h
         numbers[4] = 1.0 if k == 0 else 0.0
+        numbers[12] = lift_at(z, numbers[12], w.max_height)
         return cls(f"G1 Z{z:.3f} F{w.travel}\n",
                    np.ascontiguousarray(np.concatenate([q[1] for q in pieces]) + off[:2], np.float64), counts,
                    np.array([KIND_INDEX[q[0]] for q in pieces], np.int64),
