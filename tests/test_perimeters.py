@@ -381,3 +381,22 @@ def test_walls_cut_by_a_mask_survive_rings_that_pinch_or_cross():
         return shapely.intersection(a, b, grid_size=grid_size)
     assert overlay(fussy, shapely.box(0, 0, 2, 2), shapely.box(1, 1, 3, 3)).area == pytest.approx(1.0)
     assert calls == [None, 1e-4]
+
+
+def test_corners_of_the_offset_are_found_inside_the_material_not_in_its_mirror():
+    # The point where the offsets through two ring vertices meet is at the level's distance from
+    # the boundary on both sides of it: chosen outside, a perimeter spiked 1.2 mm out of this
+    # quadrilateral (and of rear_case.stl's layer 379). Every vertex of every level lies inside,
+    # at the level's distance or more (less the tolerance).
+    from types import SimpleNamespace
+
+    import shapely
+    from slicelab.toolpath.raster import rasterize
+    quad = np.array([[45.776467681152795, -3.4254649070641108], [42.17646768115279, -8.225464907064111],
+                     [46.97646768115279, -12.42546490706411], [51.776467681152795, -15.42546490706411]])
+    per = perimeters(rasterize(SimpleNamespace(loops=[quad]), 0.2), 0.4, 2)
+    region = shapely.Polygon(quad)
+    for level, polys in zip(per.levels, per.rings):
+        pts = shapely.points(np.concatenate([p.exterior for p in polys]))
+        assert shapely.contains(region, pts).all()
+        assert shapely.distance(region.boundary, pts).min() >= level - 0.02

@@ -49,6 +49,59 @@ def _nearest_piece(x, y, cell, ox, oy, width, height, start, owner, pieces):
 
 
 @njit(cache=True, nogil=True)
+def _on_material_side(x, y, cell, ox, oy, width, height, start, owner, pieces):
+    """Whether (x, y) lies on the material side (the left) of the boundary pieces nearest to it.
+
+    An unsigned distance cannot tell the offset inside the material from its mirror outside;
+    the pieces run with the material on their left. Nearest to a piece's inside, the point's
+    side of that piece says; nearest to a vertex, the pieces that end and start there do: at a
+    convex vertex the point must be left of both, at a reflex one left of either.
+    """
+    bx = int(np.floor(x / cell)) - ox
+    by = int(np.floor(y / cell)) - oy
+    if bx < 0 or bx >= width or by < 0 or by >= height:
+        return False
+    key = by * width + bx
+    low, best, best_t = np.inf, -1, 0.0
+    for u in range(start[key], start[key + 1]):
+        s = owner[u]
+        ax, ay = pieces[s, 0, 0], pieces[s, 0, 1]
+        dx, dy = pieces[s, 1, 0] - ax, pieces[s, 1, 1] - ay
+        wx, wy = x - ax, y - ay
+        t = min(max((wx * dx + wy * dy) / max(dx * dx + dy * dy, 1e-300), 0.0), 1.0)
+        ex, ey = wx - t * dx, wy - t * dy
+        e2 = ex * ex + ey * ey
+        if e2 < low:
+            low, best, best_t = e2, s, t
+    if best < 0:
+        return False
+    ax, ay = pieces[best, 0, 0], pieces[best, 0, 1]
+    dx, dy = pieces[best, 1, 0] - ax, pieces[best, 1, 1] - ay
+    left = dx * (y - ay) - dy * (x - ax) > 0.0
+    if 0.0 < best_t < 1.0:
+        return left
+    # The foot is a vertex: find the pieces ending and starting there.
+    vx, vy = (ax, ay) if best_t == 0.0 else (pieces[best, 1, 0], pieces[best, 1, 1])
+    eps = 1e-9 * (1.0 + abs(vx) + abs(vy))
+    into, out_of = -1, -1
+    for u in range(start[key], start[key + 1]):
+        s = owner[u]
+        if abs(pieces[s, 1, 0] - vx) <= eps and abs(pieces[s, 1, 1] - vy) <= eps:
+            into = s
+        if abs(pieces[s, 0, 0] - vx) <= eps and abs(pieces[s, 0, 1] - vy) <= eps:
+            out_of = s
+    if into < 0 or out_of < 0:
+        return left
+    ix, iy = pieces[into, 1, 0] - pieces[into, 0, 0], pieces[into, 1, 1] - pieces[into, 0, 1]
+    ox_, oy_ = pieces[out_of, 1, 0] - pieces[out_of, 0, 0], pieces[out_of, 1, 1] - pieces[out_of, 0, 1]
+    left_in = ix * (y - pieces[into, 0, 1]) - iy * (x - pieces[into, 0, 0]) > 0.0
+    left_out = ox_ * (y - pieces[out_of, 0, 1]) - oy_ * (x - pieces[out_of, 0, 0]) > 0.0
+    if ix * oy_ - iy * ox_ > 0.0:  # a left turn: a convex corner of the material
+        return left_in and left_out
+    return left_in or left_out
+
+
+@njit(cache=True, nogil=True)
 def _grow(out, m, more):
     """`out` with room for `more` rows past its first m."""
     if m + more < len(out):
@@ -67,7 +120,8 @@ def _crease_point(x0, y0, x1, y1, n0x, n0y, n1x, n1y, level, reach, cell, ox, oy
     there) or a boundary vertex (the offset is the circle of radius `level`
     round its foot, ``end - level normal``): the meeting points of each
     pairing are tried, and the first beside the chord whose exact distance
-    to the boundary is the level wins.
+    to the boundary is the level, on the material's side of it
+    (`_on_material_side`), wins.
     """
     lx, ly = x1 - x0, y1 - y0
     l2 = lx * lx + ly * ly
@@ -104,7 +158,9 @@ def _crease_point(x0, y0, x1, y1, n0x, n0y, n1x, n1y, level, reach, cell, ox, oy
         if not (0.0 < along < 1.0) or abs((qx - x0) * ly - (qy - y0) * lx) > (0.5 * np.sqrt(l2) + reach) * np.sqrt(l2):
             continue
         d, fx, fy = _nearest_piece(qx, qy, cell, ox, oy, width, height, start, owner, pieces)
-        if abs(d - level) <= 1e-9 + 1e-7 * level:
+        # At the level, and inside: the mirror of the offset outside the material is at the level too.
+        if abs(d - level) <= 1e-9 + 1e-7 * level and _on_material_side(qx, qy, cell, ox, oy, width, height,
+                                                                        start, owner, pieces):
             return qx, qy
     return np.nan, np.nan
 
