@@ -1,9 +1,10 @@
-"""Meshes: the `Mesh` container, STL reading and writing, and checking.
+"""Meshes: the `Mesh` container, reading (STL, PLY, OBJ, 3MF) and writing STL, checking and repairing.
 
 ==========================  =====================================================
 ``mesh.core``               `Mesh`, the small immutable container
 ``mesh.io``                 `load`, `save`, `MeshFileError`
-``mesh.formats``            PLY and OBJ through meshio, units (`UNITS`, `unit_scale`)
+``mesh.formats``            PLY (header checked, body through meshio), OBJ, units (`UNITS`, `unit_scale`)
+``mesh.threemf``            3MF packages: objects, components, build transforms, units
 ``mesh.validation``         `check` -> `MeshReport` (normals, open edges, shells, volume)
 ``mesh.repairs``            `repair`: CAD float noise, collapsed and duplicate facets, windings
 ``mesh.holes``              `fill_holes`, `hole_loops`: loops of open edges closed by fans

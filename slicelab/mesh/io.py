@@ -1,9 +1,12 @@
-"""Reading and writing STL, and safe file output.
+"""Reading meshes (STL, and through `slicelab.mesh.formats` PLY, OBJ and 3MF), writing STL, safe output.
 
 Binary files are read and written as numpy record arrays (`STL_RECORD`);
 numpy-stl parses and writes ASCII. This module decides which format a file is in, refuses
-files that cannot be an STL before anything is allocated, and turns every
-failure into one `MeshFileError` that names the file and the reason.
+files that cannot be a mesh before anything is allocated, and turns every
+failure into one `MeshFileError` that names the file and the reason: whatever
+the format, a file either loads as the mesh it holds or is refused, with no
+hang and no other exception. Coordinates that are NaN, infinite or beyond
+single precision (what STL stores and the slicer computes in) are refused.
 """
 from __future__ import annotations
 
@@ -27,15 +30,17 @@ STL_RECORD = np.dtype([("normal", "<f4", (3,)), ("vertices", "<f4", (3, 3)), ("a
 assert STL_RECORD.itemsize == _RECORD
 #: Facets encoded at once when writing (a few MB: the record buffer stays small and in cache).
 _WRITE_CHUNK = 1 << 16
+#: The largest float32, beyond which a coordinate cannot be stored in STL or sliced.
+_SINGLE_MAX = float(np.finfo(np.float32).max)
 _MAGIC = {
-    b"\x89PNG": "a PNG image", b"\xff\xd8\xff": "a JPEG image", b"PK\x03\x04": "a ZIP archive",
+    b"\x89PNG": "a PNG image", b"\xff\xd8\xff": "a JPEG image", b"PK\x03\x04": "a ZIP archive, not a 3MF",
     b"%PDF": "a PDF document", b"GIF8": "a GIF image", b"\x1f\x8b": "a gzip archive",
     b"ply": "a PLY mesh", b"o ": "an OBJ mesh", b"# ": "a text file",
 }
 
 
 class MeshFileError(ValueError):
-    """An input file that is not a usable STL mesh.
+    """An input file that is not a usable mesh.
 
     The message always names the file and the reason, on one line.
     """
@@ -54,21 +59,26 @@ def _describe_foreign(head: bytes) -> str | None:
 
 
 def load(path, *, units: str | None = None, scale: float | None = None) -> Mesh:
-    """Read a mesh file: binary or ASCII STL, PLY (binary or ASCII) or OBJ.
+    """Read a mesh file: binary or ASCII STL, PLY (binary or ASCII), OBJ or 3MF.
 
     STL binary files are recognised by their size (84 bytes + 50 per
     triangle, as the header's count claims), so a binary file whose header
     starts with ``solid`` is still read as binary. ASCII files may hold
-    several solids, odd spacing and CRLF line ends. PLY and OBJ (by their
-    ending, or a PLY by its first line) are read through meshio
-    (`slicelab.mesh.formats`); their faces of four or more corners become
-    triangles.
+    several solids, odd spacing and CRLF line ends. PLY, OBJ and 3MF are
+    recognised by their ending (a PLY also by its first line, a 3MF also as
+    a ZIP archive holding a 3D model) and read by `slicelab.mesh.formats`:
+    PLY through meshio after its header is checked; OBJ with relative
+    (negative) indices and ``v/vt/vn`` corners; 3MF as all its build items
+    with their transforms, in millimetres (`slicelab.mesh.threemf`). Faces of
+    four or more corners become triangles (a fan from the first corner).
 
     Parameters
     ----------
     path : str or os.PathLike
     units : {"mm", "cm", "m", "in"}, optional
-        The unit the file is written in; coordinates are scaled to mm.
+        The unit the file is written in; coordinates are scaled to mm. A 3MF
+        file states its own unit, which is applied first: `units` and `scale`
+        then multiply the millimetres.
     scale : float, optional
         A further factor applied to the coordinates.
 
@@ -79,21 +89,40 @@ def load(path, *, units: str | None = None, scale: float | None = None) -> Mesh:
     Raises
     ------
     MeshFileError
-        The file is missing, a directory or another non-regular file, empty, truncated, not an STL,
-        malformed, holds non-finite coordinates or no facets.
+        The file is missing, a directory or another non-regular file, empty, truncated, not a mesh
+        file, malformed (a PLY header that ends early or claims more than the file holds, an OBJ face
+        index that is 0 or names no vertex, a 3MF zip bomb, malformed XML or component cycle), holds
+        coordinates that are NaN, infinite or beyond single precision, or no facets.
 
     Examples
     --------
-    >>> import slicelab, pathlib
+    >>> import slicelab, pathlib, tempfile
     >>> m = slicelab.load(pathlib.Path(slicelab.__file__).parents[1] / "data" / "sphere.stl")
     >>> m.triangles.shape[1:]
     (3, 3)
+
+    An OBJ whose face counts back from the last vertex (``-1`` is the third):
+
+    >>> f = pathlib.Path(tempfile.mkdtemp()) / "t.obj"
+    >>> _ = f.write_text("v 0 0 0\\nv 1 0 0\\nv 0 1 0\\nf -3 -2 -1\\n")
+    >>> load(f, units="cm").triangles[0].tolist()
+    [[0.0, 0.0, 0.0], [10.0, 0.0, 0.0], [0.0, 10.0, 0.0]]
+    >>> _ = f.write_text("v 1e39 0 0\\nv 1 0 0\\nv 0 1 0\\nf 1 2 3\\n")
+    >>> try:
+    ...     load(f)
+    ... except MeshFileError as exc:
+    ...     print(exc.reason)
+    1 facets have coordinates beyond single precision (up to 1e+39, float32 ends at 3.4e+38)
     """
     factor = unit_scale(units, scale)
-    mesh = _read(Path(path))
+    p = Path(path)
+    mesh = _read(p)
     if factor == 1.0:
         return mesh
-    return Mesh(mesh.triangles * factor, mesh.file_normals)
+    with np.errstate(over="ignore"):  # refused just below
+        triangles = mesh.triangles * factor
+    _refuse_beyond_single(p, triangles)
+    return Mesh(triangles, mesh.file_normals)
 
 
 def _read(p: Path) -> Mesh:
@@ -134,6 +163,12 @@ def _read(p: Path) -> Mesh:
     if stripped[:5].lower() == b"solid":
         triangles, normals = _read_ascii(p)
         return _finish(p, triangles, normals)
+
+    if head.startswith(b"PK\x03\x04"):  # a 3MF without its ending?
+        from .threemf import is_3mf_package  # imported here: zipfile and ElementTree only for ZIP archives
+        if is_3mf_package(p):
+            triangles, normals = read_scan(p, "3mf", lambda reason: MeshFileError(p, reason))
+            return _finish(p, triangles, normals)
 
     foreign = _describe_foreign(head)
     if foreign:
@@ -208,10 +243,22 @@ def _finish(p: Path, triangles, normals) -> Mesh:
         bad = int((~np.isfinite(triangles)).any(axis=(1, 2)).sum())
         raise MeshFileError(p, f"{bad} facets have NaN or infinite coordinates")
     t = np.asarray(triangles, dtype=np.float64).reshape(-1, 3, 3)
+    if np.asarray(triangles).dtype != np.float32:  # what float32 holds is in range
+        _refuse_beyond_single(p, t)
     n = np.asarray(normals, dtype=np.float64).reshape(-1, 3)
     if not np.isfinite(n).all():
         n = np.where(np.isfinite(n), n, 0.0)  # a bad stored normal is a defect to report, not a refusal
     return Mesh(t, n)
+
+
+def _refuse_beyond_single(p: Path, t: np.ndarray) -> None:
+    """Refuse coordinates no float32 holds: STL could not store them, and the slicer's float32 stages would
+    turn them into infinities (a mesh checked watertight in float64 that then crashes `cut`)."""
+    big = float(np.abs(t).max()) if t.size else 0.0
+    if big > _SINGLE_MAX:
+        bad = int((np.abs(t) > _SINGLE_MAX).any(axis=(1, 2)).sum())
+        raise MeshFileError(p, f"{bad} facets have coordinates beyond single precision "
+                               f"(up to {big:.3g}, float32 ends at {_SINGLE_MAX:.3g})")
 
 
 def write_binary_stl(triangles, normals, path, name: str = "") -> None:
