@@ -16,7 +16,7 @@ $(BIN)/python:
 EXT     := _aot_kernels
 KERNELS := $(addprefix slicelab/geometry/,compiled.py kernels.py march_kernels.py segment_kernels.py offset_kernels.py \
            graph_kernels.py polygon_kernels.py slice_kernels.py) \
-           slicelab/export/text_kernels.py
+           slicelab/gcode/text_kernels.py
 BUILD   := $(BIN)/python -c "from slicelab.geometry import compiled; print(compiled.build())"
 
 $(VENV)/.installed: pyproject.toml | $(BIN)/python

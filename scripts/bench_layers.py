@@ -125,9 +125,9 @@ def skin_table(repeat: int) -> None:
     the share of it in the solid filling's gap fill (`_solid_gaps`), by radius, and the exponent."""
     import numpy as np
     import slicelab
-    from slicelab.toolpath import paths
-    from slicelab.toolpath.perimeters import perimeter_band
-    from slicelab.toolpath.raster import rasterize
+    from slicelab.printing import paths
+    from slicelab.printing.steps.perimeters import perimeter_band
+    from slicelab.printing.grid.raster import rasterize
     from profile_layers import timing  # (scripts/ is on the path when a script runs)
     p = slicelab.PrintSettings().pixel_size
     band = perimeter_band(0.4, 2, 0.15, p)

@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """Check that a printer can trust a G-code file, read back from disk, independently of the slicer.
 
-The checker reads the moves with its own parser and imports neither ``slicelab.toolpath`` nor
+The checker reads the moves with its own parser and imports neither ``slicelab.printing`` nor
 ``slicelab.export``'s writer: the part is known only by its mesh and exact plane sections
 (``slicelab.load``, ``slicelab.slice_layers``), with numpy and shapely. Seven checks, each giving
 its offending line numbers (1-based), worst first:

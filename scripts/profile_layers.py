@@ -1,6 +1,6 @@
 """Where a layer's time goes: 100 layers of a part (from a quarter up, or `--first`) planned in this process, timed, then profiled.
 
-The layers go through the planner's own per-run function (`slicelab.toolpath.planner`),
+The layers go through the planner's own per-run function (`slicelab.printing.planner`),
 runs of 20 layers with the neighbours their skins read, as a pool's worker gets them,
 with `slicelab slice`'s defaults and 3 top and bottom layers. Prints the milliseconds per
 layer (median of three passes, no profiler), the milliseconds per layer of each stage (one
@@ -39,13 +39,13 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 #: (stage, where it is called from): each is timed where its caller looks it up.
-STAGES = [("rasterize", "slicelab.toolpath.planner"), ("layer_skins", "slicelab.toolpath.planner"),
-          ("open_mask", "slicelab.toolpath.skins"),
-          ("layer_overhangs", "slicelab.toolpath.planner"), ("layer_paths", "slicelab.toolpath.planner"),
-          ("distance_field", "slicelab.toolpath.perimeters"), ("level_rings", "slicelab.toolpath.perimeters"),
-          ("_opened", "slicelab.toolpath.perimeters"), ("uncovered_blocks", "slicelab.toolpath.perimeters"),
-          ("medial_fill_blocks", "slicelab.toolpath.perimeters"), ("split_by_mask", "slicelab.toolpath.perimeters"),
-          ("fill_pattern", "slicelab.toolpath.paths"), ("simplify_paths", "slicelab.toolpath.paths")]
+STAGES = [("rasterize", "slicelab.printing.planner"), ("layer_skins", "slicelab.printing.planner"),
+          ("open_mask", "slicelab.printing.steps.skins"),
+          ("layer_overhangs", "slicelab.printing.planner"), ("layer_paths", "slicelab.printing.planner"),
+          ("distance_field", "slicelab.printing.steps.perimeters"), ("level_rings", "slicelab.printing.steps.perimeters"),
+          ("_opened", "slicelab.printing.steps.perimeters"), ("uncovered_blocks", "slicelab.printing.steps.perimeters"),
+          ("medial_fill_blocks", "slicelab.printing.steps.perimeters"), ("split_by_mask", "slicelab.printing.steps.perimeters"),
+          ("fill_pattern", "slicelab.printing.steps.paths"), ("simplify_paths", "slicelab.printing.steps.paths")]
 
 
 @contextlib.contextmanager
@@ -76,7 +76,7 @@ def stage_times(run, layers: int) -> list[tuple[str, float]]:
         for name, module in STAGES:
             mod = importlib.import_module(module)
             # The planner imports its stages inside its run function: wrap them in their own modules.
-            home = mod if hasattr(mod, name) else importlib.import_module(f"slicelab.toolpath.{_HOME[name]}")
+            home = mod if hasattr(mod, name) else importlib.import_module(f"slicelab.printing.{_HOME[name]}")
             stack.enter_context(timing(home, name, lambda a, k, t, _name=name: spent.__setitem__(
                 _name, spent[_name] + t)))
         run()
@@ -118,7 +118,7 @@ def costs(mesh, s) -> None:
     import numpy as np
 
     from slicelab.slicing.sections import slice_layers
-    from slicelab.toolpath import paths, planner, schedule
+    from slicelab.printing import paths, planner, schedule
     spent = {}
     with timing(paths, "layer_paths", lambda a, k, t: spent.__setitem__(k["layer_index"], 1000 * t)):
         planner.plan(mesh, s, workers=1)  # imports, compiled kernels
@@ -149,8 +149,8 @@ def costs(mesh, s) -> None:
 def main() -> None:
     import slicelab
     from slicelab.slicing.sections import slice_layers
-    from slicelab.toolpath import planner
-    from slicelab.toolpath.settings import PrintSettings
+    from slicelab.printing import planner
+    from slicelab.printing.config.settings import PrintSettings
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("mesh", nargs="?", default=str(ROOT / "data" / "pot.stl"))

@@ -7,9 +7,10 @@ names (``__all__``) and keeps one job per module:
 ``slicelab.geometry``    plain-array kernels: plane frames, topology, chains, polygons
 ``slicelab.mesh``        `Mesh`, STL input/output, `check`, `repair`
 ``slicelab.slicing``     sections, splits, watertight cuts, partitions into pieces
-``slicelab.toolpath``    layer rasters, perimeters, infill, paths, the print plan
+``slicelab.printing``    layer rasters, perimeters, infill, paths, the print plan
 ``slicelab.artefacts``   vessel axis, profiles, measurements, drawings
-``slicelab.export``      safe file output, G-code
+``slicelab.export``      safe file output, checked meshes, the SVG writer
+``slicelab.gcode``       G-code of a print plan, its time estimate, layer drawings
 ``slicelab.viz``         matplotlib figures and previews (imported on first use)
 ``slicelab.tasks``       jobs on files for the command line and batches
 ``slicelab.samples``     analytic sample meshes (boxes, tori, pots, staircases)
@@ -45,16 +46,16 @@ _LAZY = {
     "align": "artefacts.axis", "Alignment": "artefacts.axis", "profile": "artefacts.profiles",
     "Profile": "artefacts.profiles", "Measurements": "artefacts.measure",
     "run_batch": "tasks",
-    "rasterize": "toolpath.raster", "LayerRaster": "toolpath.raster", "GridMask": "toolpath.raster",
-    "raster_hierarchy": "toolpath.hierarchy",
-    "layer_perimeters": "toolpath.perimeters", "Perimeters": "toolpath.perimeters",
-    "layer_paths": "toolpath.paths", "LayerPaths": "toolpath.paths",
-    "PrintSettings": "toolpath.planner", "PrintPlan": "toolpath.planner", "plan": "toolpath.planner",
+    "rasterize": "printing.grid.raster", "LayerRaster": "printing.grid.raster", "GridMask": "printing.grid.raster",
+    "raster_hierarchy": "printing.grid.hierarchy",
+    "layer_perimeters": "printing.steps.perimeters", "Perimeters": "printing.steps.perimeters",
+    "layer_paths": "printing.steps.paths", "LayerPaths": "printing.steps.paths",
+    "PrintSettings": "printing.planner", "PrintPlan": "printing.planner", "plan": "printing.planner",
 }
 
 __all__ = ["Mesh", "MeshFileError", "MeshReport", "check", "load", "repair", "save", "__version__", *_LAZY]
 
 
 __getattr__, __dir__ = attach(__name__, _LAZY, globals(),
-                              submodules=("geometry", "mesh", "slicing", "toolpath", "artefacts", "export", "viz",
+                              submodules=("geometry", "mesh", "slicing", "printing", "gcode", "artefacts", "export", "viz",
                                           "tasks", "samples"))

@@ -175,7 +175,7 @@ def test_slice_prints_shells_touching_along_an_edge_and_says_so(tmp_path):
     import subprocess
     import sys
 
-    from slicelab.toolpath import PrintSettings, plan
+    from slicelab.printing import PrintSettings, plan
     part = tmp_path / "touching.stl"
     slicelab.save(_touching_blocks(), part)
     out = tmp_path / "t.gcode"

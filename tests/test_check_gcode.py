@@ -287,13 +287,13 @@ def test_command_exit_status_and_independence(sliced, tmp_path):
     # brings slicelab.export.files, its safe file output, and the kernel table export.text_kernels).
     code = ("import runpy, sys, json; sys.argv = sys.argv[1:]; "
             "rc = 0\ntry:\n runpy.run_path(sys.argv[0], run_name='__main__')\nexcept SystemExit as e:\n rc = e.code\n"
-            "print(json.dumps([rc, sorted(k for k in sys.modules if k.startswith(('slicelab.toolpath', "
+            "print(json.dumps([rc, sorted(k for k in sys.modules if k.startswith(('slicelab.printing', "
             "'slicelab.export.')))]))")
     r = subprocess.run([sys.executable, "-c", code, str(SCRIPT), str(cube), "--mesh", str(stl), "--json"],
                        cwd=ROOT, capture_output=True, text=True)
     report_text, _, tail = r.stdout.rpartition("\n[")
     rc, loaded = json.loads("[" + tail)
-    assert rc == 0 and set(loaded) <= {"slicelab.export.files", "slicelab.export.text_kernels"}, (loaded, r.stderr)
+    assert rc == 0 and set(loaded) <= {"slicelab.export.files", "slicelab.gcode.text_kernels"}, (loaded, r.stderr)
     assert json.loads(report_text)["passed"] is True
     lines, _ = _heater_off(cube.read_text().splitlines())
     (tmp_path / "bad.gcode").write_text("\n".join(lines) + "\n")

@@ -92,7 +92,7 @@ def test_help_says_a_bare_number_up_to_1_is_a_fraction(capsys):
 def test_every_print_setting_flag_says_what_it_sets_and_its_default():
     """Each slice flag that sets a print setting has a help line ending in the setting's default,
     read from PrintSettings (so help and behaviour cannot drift apart)."""
-    from slicelab.toolpath import PrintSettings, setting_names
+    from slicelab.printing import PrintSettings, setting_names
     d = PrintSettings()
     sub = next(a for a in build_parser()._actions if a.dest == "command").choices["slice"]
     checked = 0

@@ -3,10 +3,10 @@ import numpy as np
 import pytest
 
 import slicelab
-from slicelab.toolpath.infill import fill_lines
+from slicelab.printing.fill.lines import fill_lines
 from slicelab.geometry.polygons import Polygon
-from slicelab.toolpath.paths import coverage_map, covered_pixels, layer_paths
-from slicelab.toolpath.raster import GridMask
+from slicelab.printing.steps.paths import coverage_map, covered_pixels, layer_paths
+from slicelab.printing.grid.raster import GridMask
 from slicelab.samples import nested_shells
 from layer_shapes import SHAPES, circle, rect, rotation, section_of
 
@@ -180,7 +180,7 @@ def test_rectilinear_leaves_out_stubs_at_corners():
     # the spacing would be stubs of a few hundredths of a millimetre; none is laid, and the
     # rest of the square is still filled.
     from slicelab.geometry.polygons import Polygon
-    from slicelab.toolpath.infill import rectilinear
+    from slicelab.printing.fill.lines import rectilinear
     # The lower left corner lies 0.03 mm off a line: without the rule, a 0.054 mm stub.
     sq = Polygon(np.array([[0, 0], [8, 0], [8, 8], [0, 8]], float) + [0.013, 0.055], (), 0)
     spacing = 0.4
@@ -203,7 +203,7 @@ def test_rectilinear_leaves_out_stubs_at_corners():
 def test_rectilinear_links_lines_along_the_boundary_into_zigzags():
     # A 10 mm square at 1 mm spacing: its ten lines linked by nine 1 mm steps along the boundary,
     # one zigzag of 109 mm; links longer than max_link are not taken.
-    from slicelab.toolpath.infill import rectilinear
+    from slicelab.printing.fill.lines import rectilinear
     square = np.array([[0, 0], [10, 0], [10, 10], [0, 10]], float) + 0.25
     one = rectilinear([Polygon(square, (), 0)], 1.0, 0.0)
     assert len(one) == 1 and len(one[0]) == 20

@@ -10,16 +10,16 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import slicelab
-from slicelab.export.gcode import layer_fan, layer_texts, write_gcode
+from slicelab.gcode.writer import layer_fan, layer_texts, write_gcode
 from slicelab.geometry.polygons import Polygon
 from slicelab.samples import box, cube_with_hole
-from slicelab.toolpath.bed import check_bed
-from slicelab.toolpath.estimate import format_duration, move_times
-from slicelab.toolpath.paths import layer_paths
-from slicelab.toolpath.patterns import GYROID_LENGTH, PATTERNS, fill_pattern
-from slicelab.toolpath.planner import PrintSettings, layer_bounds, plan
-from slicelab.toolpath.roles import KINDS, STYLES
-from slicelab.toolpath.simplify import simplify_paths, simplify_rings
+from slicelab.printing.config.bed import check_bed
+from slicelab.gcode.estimate import format_duration, move_times
+from slicelab.printing.steps.paths import layer_paths
+from slicelab.printing.fill.patterns import GYROID_LENGTH, PATTERNS, fill_pattern
+from slicelab.printing.planner import PrintSettings, layer_bounds, plan
+from slicelab.printing.roles import KINDS, STYLES
+from slicelab.printing.steps.simplify import simplify_paths, simplify_rings
 from layer_shapes import SHAPES, circle, section_of
 
 shapely = pytest.importorskip("shapely")
@@ -270,7 +270,7 @@ def test_a_skirt_goes_round_outer_loops_that_cross_themselves_and_each_other():
     import shapely
 
     from slicelab.samples import figure_eight_prism
-    from slicelab.toolpath.skirt import skirt_loops
+    from slicelab.printing.steps.skirt import skirt_loops
     one = figure_eight_prism()
     two = slicelab.Mesh(np.concatenate([one.triangles, one.triangles + (4, 2, 0)]))
     sec = slicelab.section(two, (0, 0, 5), (0, 0, 1))
@@ -539,7 +539,7 @@ def test_compiled_writer_writes_the_python_bytes(tmp_path, monkeypatch, case, da
     else:
         s = PrintSettings(**FAST, min_layer_time=8, min_print_speed=2, fan_below_layer_time=30)
         p = plan(box((0, 0, 0), (6, 6, 2.4)), s, workers=1)
-    import slicelab.export.layer_inputs as layer_inputs
+    import slicelab.gcode.layer_inputs as layer_inputs
     runs = []
     layer_moves = layer_inputs.layer_moves
     monkeypatch.setattr(layer_inputs, "layer_moves", lambda *a: runs.append(a[4][5]) or layer_moves(*a))
@@ -558,8 +558,8 @@ def test_compiled_writer_writes_the_python_bytes(tmp_path, monkeypatch, case, da
 
 def test_compiled_writer_leaves_what_it_cannot_write_to_python():
     # A coordinate beyond what it formats (or not finite) leaves the layer to Python's writer.
-    from slicelab.export.layer_inputs import BRIDGE, KIND_INDEX, PERIMETER_KINDS, WORD_AT, WORD_BYTES
-    from slicelab.export.text_kernels import layer_moves
+    from slicelab.gcode.layer_inputs import BRIDGE, KIND_INDEX, PERIMETER_KINDS, WORD_AT, WORD_BYTES
+    from slicelab.gcode.text_kernels import layer_moves
     f = np.frombuffer(b"9000", np.uint8).copy()
     for bad in (1e20, np.nan, np.inf):
         xy = np.array([[0.0, 0.0], [bad, 1.0]])
@@ -573,7 +573,7 @@ def test_compiled_writer_leaves_what_it_cannot_write_to_python():
 def test_compiled_stream_time_is_move_times_summed(seed):
     # Random streams (corners, straight runs, z moves, retractions and primes, moves of no length,
     # more than 128 moves: numpy's pairwise sum): the compiled time is numpy's, bit for bit.
-    from slicelab.export.text_kernels import stream_seconds
+    from slicelab.gcode.text_kernels import stream_seconds
     rng = np.random.default_rng(seed)
     n = int(rng.integers(1, 3000))
     rows = np.c_[np.cumsum(rng.normal(0, 3, (n, 2)), axis=0), np.repeat(rng.integers(1, 4, n), 1) * 0.2,
@@ -595,9 +595,9 @@ def test_travel_lifts_stay_under_the_printer_height(tmp_path, compiled):
     # to what is left, by both writers (before, they lifted the nozzle 0.2 mm past the top).
     import re
 
-    from slicelab.export import write_gcode
+    from slicelab.gcode import write_gcode
     from slicelab.samples import sphere
-    from slicelab.toolpath import PrintSettings, plan
+    from slicelab.printing import PrintSettings, plan
     ball = sphere(8)
     p = plan(ball, PrintSettings(max_height=16.0), workers=1)
     write_gcode(p, tmp_path / "b.gcode", workers=1, compiled=compiled)

@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from slicelab.export.svg import SvgDrawing
-from slicelab.export.text_kernels import fixed, path_data
+from slicelab.gcode.text_kernels import fixed, path_data
 
 LINE = "G1 X%.3f Y%.3f E%.5f\n"
 

@@ -9,7 +9,7 @@ from slicelab.geometry.blocks import EMPTY, FULL, BlockGrid
 from slicelab.geometry.march_kernels import closed_cycles
 from slicelab.geometry.segment_kernels import douglas_peucker
 from slicelab.geometry.spatial import SegmentIndex
-from slicelab.toolpath.simplify import simplify_paths
+from slicelab.printing.steps.simplify import simplify_paths
 
 
 def _field(seed: int, shape=(48, 56)) -> np.ndarray:
@@ -164,8 +164,8 @@ def test_distance_field_is_the_brute_force_distance_on_every_material_pixel():
     # Every material pixel held: the distance from its centre to the nearest boundary segment
     # (all segments, numpy), capped at the field's depth; outside pixels at -p/2.
     from types import SimpleNamespace
-    from slicelab.toolpath.distance import distance_field
-    from slicelab.toolpath.raster import rasterize
+    from slicelab.printing.grid.distance import distance_field
+    from slicelab.printing.grid.raster import rasterize
     hole = _star(5, 1.5, 0.8)[::-1]
     p = 0.1
     r = rasterize(SimpleNamespace(loops=[_star(), hole]), p, band=1.5)
@@ -255,7 +255,7 @@ def test_march_cells_asks_for_more_room_rather_than_losing_segments():
 def test_winding_blocks_is_the_brute_force_winding_number_on_every_held_pixel(seed):
     # Overlapping star-shaped loops, some clockwise, against the winding number summed from each
     # loop's turning angle around every pixel centre (no crossing rule involved).
-    from slicelab.toolpath.raster import winding_blocks
+    from slicelab.printing.grid.raster import winding_blocks
     rng = np.random.default_rng(seed)
     loops = []
     for k in range(4):

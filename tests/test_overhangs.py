@@ -10,10 +10,10 @@ import numpy as np
 import pytest
 
 import slicelab
-from slicelab.export.gcode import write_gcode
+from slicelab.gcode.writer import write_gcode
 from slicelab.samples import box, concat, voxels
-from slicelab.toolpath import PrintSettings, plan
-from slicelab.toolpath.overhangs import EDGE_MARGIN
+from slicelab.printing import PrintSettings, plan
+from slicelab.printing.steps.overhangs import EDGE_MARGIN
 
 S = dict(pixel_size=0.1, layer_height=0.25, first_layer_height=0.25, skirt_loops=0)
 
@@ -370,8 +370,8 @@ def test_mid_air_counts_each_island_of_a_layer():
     # second a square that misses it, under the third nothing. Two islands start in mid-air.
     from layer_shapes import rect, section_of
 
-    from slicelab.toolpath.overhangs import layer_overhangs
-    from slicelab.toolpath.raster import rasterize
+    from slicelab.printing.steps.overhangs import layer_overhangs
+    from slicelab.printing.grid.raster import rasterize
     layer = rasterize(section_of([rect(0, 0, 4, 4), rect(30, 0, 34, 4), rect(0, 40, 4, 44)]), 0.2)
     below = rasterize(section_of([rect(1, 1, 3, 3), rect(40, 0, 44, 4)]), 0.2).combined()
     assert len(layer.tiles) == 1 and len(layer.island_boxes) == 3

@@ -4,7 +4,7 @@ import pytest
 
 import slicelab
 from slicelab.geometry.spatial import SegmentIndex
-from slicelab.toolpath.perimeters import layer_perimeters as perimeters
+from slicelab.printing.steps.perimeters import layer_perimeters as perimeters
 from slicelab.samples import nested_shells
 from layer_shapes import SHAPES, corner_angles, rect, section_of
 
@@ -177,7 +177,7 @@ def _rings_of(polygons):
 def test_block_seams_change_nothing(name, p):
     # Perimeters, filling region, gap fill and thin walls come out the same, array for array,
     # with small blocks as with blocks of 512 px that hold the island in one to four.
-    from slicelab.toolpath.raster import rasterize
+    from slicelab.printing.grid.raster import rasterize
     from layer_shapes import circle
     loops = {"walls": [rect(0, 0, 10, 0.3) + 0.012, rect(0, 1, 20, 2.1) + 0.017, rect(0, 3, 20, 4.9) + 0.013],
              "ring": [circle(6, 90, (0.01, 0.02)), circle(4.6, 90, (0.01, 0.02))[::-1]]}.get(name) or SHAPES[name]
@@ -276,7 +276,7 @@ def test_offsets_follow_arcs_and_creases_between_pixels(pixel):
 
 @pytest.mark.parametrize("pixel", [0.05, 0.1, 0.2])
 def test_a_raster_with_the_perimeters_band_is_used_as_it_is(pixel):
-    from slicelab.toolpath.perimeters import perimeter_band
+    from slicelab.printing.steps.perimeters import perimeter_band
     s = section_of([rect(0, 0, 10, 6) + 0.013])
     raster = slicelab.rasterize(s, pixel, band=perimeter_band(0.4, 2, 0.15, pixel))
     per = perimeters(raster, 0.4, 2, overlap=0.15)
@@ -325,8 +325,8 @@ def test_medial_fill_of_far_slivers_is_each_sliver_alone():
     # Three 0.3 mm slivers at the corners of a 300 mm window (a box of 2.25 million pixels, as a
     # wide ring's solid skin has): each gives its own centre line, 0.3 mm wide, as when alone; the
     # long one crosses several blocks and comes out whole.
-    from slicelab.toolpath.gapfill import medial_fill
-    from slicelab.toolpath.masks import GridMask
+    from slicelab.printing.steps.gapfill import medial_fill
+    from slicelab.printing.grid.masks import GridMask
     p, w = 0.2, 0.4
     mask = np.zeros((1500, 1500), bool)
     slivers = [(slice(10, 12), slice(20, 120)), (slice(1400, 1402), slice(1300, 1340)),
@@ -359,8 +359,8 @@ def test_walls_cut_by_a_mask_survive_rings_that_pinch_or_cross():
     import shapely
     from slicelab.geometry.polygons import Polygon, signed_area
     from slicelab.geometry.regions import overlay, valid_region
-    from slicelab.toolpath.masks import GridMask
-    from slicelab.toolpath.perimeters import split_by_mask
+    from slicelab.printing.grid.masks import GridMask
+    from slicelab.printing.steps.perimeters import split_by_mask
     bowtie = Polygon(np.array([[0, 0], [2, 2], [2, 0], [0, 2]], float), [], 0)
     with pytest.raises(shapely.errors.GEOSException):  # what the walls met before
         shapely.MultiPolygon([shapely.Polygon(bowtie.exterior)]).intersection(shapely.box(-1, -1, 1, 3))
@@ -391,7 +391,7 @@ def test_corners_of_the_offset_are_found_inside_the_material_not_in_its_mirror()
     from types import SimpleNamespace
 
     import shapely
-    from slicelab.toolpath.raster import rasterize
+    from slicelab.printing.grid.raster import rasterize
     quad = np.array([[45.776467681152795, -3.4254649070641108], [42.17646768115279, -8.225464907064111],
                      [46.97646768115279, -12.42546490706411], [51.776467681152795, -15.42546490706411]])
     per = perimeters(rasterize(SimpleNamespace(loops=[quad]), 0.2), 0.4, 2)

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import slicelab
-from slicelab.export.gcode import write_gcode
-from slicelab.export.layer_svgs import write_svgs
-from slicelab.toolpath.planner import PrintSettings, layer_bounds, plan
+from slicelab.gcode.writer import write_gcode
+from slicelab.gcode.layer_svgs import write_svgs
+from slicelab.printing.planner import PrintSettings, layer_bounds, plan
 from slicelab.viz.layers import preview_png
 from slicelab.samples import cube_with_hole, voxels
 
@@ -259,7 +259,7 @@ def test_png_preview_draws_the_outer_perimeter_where_it_lies(tmp_path):
     # of its centre line (0.2 mm inside a 12 mm L of 3 mm arms) and stays out of the L's notch (a
     # flipped axis would draw an arm there), and reaches the end of each arm.
     import cv2
-    from slicelab.toolpath.roles import STYLES
+    from slicelab.printing.roles import STYLES
     occ = np.zeros((4, 4, 1), bool)
     occ[0, :, 0] = occ[:, 0, 0] = True  # an arm up the y axis and one along the x axis
     pp = plan(voxels(occ, (3.0, 3.0, 1.0)), PrintSettings(pixel_size=0.1, skirt_loops=0), workers=1)
@@ -282,7 +282,7 @@ def test_cli_previews_drawn_by_a_pool_are_the_serial_ones(tmp_path, data_dir):
     import cv2
     from matplotlib.colors import to_rgb
 
-    from slicelab.toolpath.roles import STYLES
+    from slicelab.printing.roles import STYLES
     folders = {}
     for workers in ("1", "2"):
         folders[workers] = tmp_path / workers
@@ -304,8 +304,8 @@ def test_layer_svgs_drawn_while_planning_are_those_drawn_after(tmp_path):
     # taken back through the page, are the plan's own (skirt included, all inside the extent).
     import xml.etree.ElementTree as ET
 
-    from slicelab.export.layer_svgs import layer_drawings
-    from slicelab.toolpath.roles import STYLES
+    from slicelab.gcode.layer_svgs import layer_drawings
+    from slicelab.printing.roles import STYLES
     mesh = cube_with_hole(size=12.0, radius=3.0)
     s = PrintSettings(**FAST, skirt_loops=2, skirt_distance=3.0)
     ahead = plan(mesh, s, workers=2, layer_drawing=layer_drawings)
@@ -338,8 +338,8 @@ def test_layers_that_repeat_take_the_toolpaths_two_below(part, tmp_path, monkeyp
     # walls are cut where each layer meets the facets' diagonals): the planner computes the
     # toolpaths of far fewer layers than it plans, and the G-code written and read back is the one
     # every layer planned afresh gives, byte for byte, skins round the step included.
-    import slicelab.toolpath.paths as paths
-    import slicelab.toolpath.repeats as repeats
+    import slicelab.printing.steps.paths as paths
+    import slicelab.printing._reuse as repeats
     if part == "stepped block":
         occ = np.zeros((3, 3, 3), bool)
         occ[:, :, :2] = True
@@ -373,8 +373,8 @@ def test_runs_that_start_alike_are_made_once(tmp_path, monkeypatch):
     # so each run's first layers are planned anew until its toolpaths settle; the runs from 40 on
     # start as the run at 20 did (steady layers, one outline) and take those layers, made once.
     # The G-code read back is the one every layer planned afresh gives, with one worker or two.
-    import slicelab.toolpath.paths as paths
-    import slicelab.toolpath.repeats as repeats
+    import slicelab.printing.steps.paths as paths
+    import slicelab.printing._reuse as repeats
     mesh = cube_with_hole(size=20.0, radius=5.0)
     s = PrintSettings(pixel_size=0.1)
     assert repeats.run_starts(dict(enumerate(slicelab.slice_layers(mesh, heights=np.arange(0.1, 20, 0.2)))), 100,
@@ -402,8 +402,8 @@ def test_layers_of_a_prism_written_in_float32_far_from_the_origin_repeat(tmp_pat
     # one (a ring's simplification may keep other vertices), filling of each kind along the same
     # direction and about as long (a start a rounding away may link its zigzags otherwise), about as
     # many G-code lines and the same filament within a percent, read back.
-    import slicelab.toolpath.paths as paths
-    import slicelab.toolpath.repeats as repeats
+    import slicelab.printing.steps.paths as paths
+    import slicelab.printing._reuse as repeats
     from slicelab.mesh import default_tolerance
     exact = cube_with_hole(size=12.0, radius=3.0).triangles + [500.3, 300.7, 0.1]
     exact[..., 0] += 3e-5 * exact[..., 2] / 12  # half a float32 step at the top: rounded up or down
@@ -481,7 +481,7 @@ def test_a_part_on_a_corner_is_lowered_until_its_first_layer_prints():
     # the first extrusion would be laid in the air on the fourth. The plan lowers it 0.6 mm into
     # the bed, says so, and prints its first layer on the bed.
     from slicelab.samples import box
-    from slicelab.toolpath import PrintSettings, plan
+    from slicelab.printing import PrintSettings, plan
     a = np.ones(3) / np.sqrt(3)
     v = np.cross(a, [0, 0, 1.0])
     vx = np.array([[0, -v[2], v[1]], [v[2], 0, -v[0]], [-v[1], v[0], 0]])

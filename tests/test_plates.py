@@ -82,7 +82,7 @@ def test_a_piece_taller_than_the_volume_is_refused():
 
 
 def test_one_gcode_prints_every_piece_of_a_plate():
-    from slicelab.export import gcode_lines
+    from slicelab.gcode import gcode_lines
     pieces = [box((0, 0, 0), (20, 10, 2)), box((0, 0, 0), (15, 15, 2)), box((0, 0, 0), (8, 30, 2))]
     plates = arrange(pieces, (80, 80, 50), spacing=5)
     assert len(plates) == 1

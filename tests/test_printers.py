@@ -8,9 +8,9 @@ import sys
 import pytest
 
 import slicelab
-from slicelab.export import gcode_lines
+from slicelab.gcode import gcode_lines
 from slicelab.samples import box
-from slicelab.toolpath import PRINTERS, PrintSettings, format_config, read_config, resolve_settings
+from slicelab.printing import PRINTERS, PrintSettings, format_config, read_config, resolve_settings
 
 
 def run(*args):
@@ -99,7 +99,7 @@ def test_slice_refuses_an_open_mesh_with_what_is_wrong(tmp_path):
 
 
 def test_settings_come_in_groups_and_files_keep_them(tmp_path):
-    from slicelab.toolpath import GROUPS, Motion, settings_dict, setting_names
+    from slicelab.printing import GROUPS, Motion, settings_dict, setting_names
     s = PrintSettings(layer_height=0.3, motion=Motion(travel_speed=100.0))
     assert s.extrusion.layer_height == s.layer_height == 0.3 and s.motion.travel_speed == 100.0
     assert set(settings_dict(s)) == set(setting_names())

@@ -4,8 +4,8 @@ import pytest
 from matplotlib.path import Path as MplPath
 
 import slicelab
-from slicelab.toolpath.hierarchy import raster_hierarchy
-from slicelab.toolpath.raster import GridMask, rasterize
+from slicelab.printing.grid.hierarchy import raster_hierarchy
+from slicelab.printing.grid.raster import GridMask, rasterize
 from slicelab.samples import box, concat, nested_shells
 from layer_shapes import SHAPES, circle, rect, section_of, star
 
@@ -125,7 +125,7 @@ def _ring_edges(loops):
 @pytest.mark.parametrize("rule", ["nonzero", "evenodd"])
 @pytest.mark.parametrize("size", [8, 32])
 def test_block_masks_are_the_whole_window_masks(rule, size):
-    from slicelab.toolpath.raster import raster_blocks, winding_numbers
+    from slicelab.printing.grid.raster import raster_blocks, winding_numbers
     rng = np.random.default_rng(size)
     p = 0.05
     for band in (0.1, 0.7, 2.0):
@@ -145,7 +145,7 @@ def test_block_masks_are_the_whole_window_masks(rule, size):
 
 
 def test_block_mask_algebra_and_opening_match_whole_masks():
-    from slicelab.toolpath.masks import open_mask
+    from slicelab.printing.grid.masks import open_mask
     a = rasterize(section_of([star(5, 8, 3)]), 0.05, band=0.4).tiles[0]
     b = rasterize(section_of([circle(5, 64, (2.0, 1.0))]), 0.05, band=0.4).tiles[0]
     ga, gb = a.to_grid(), b.to_grid()
@@ -159,7 +159,7 @@ def test_block_mask_algebra_and_opening_match_whole_masks():
 
 def test_block_mask_dilation_matches_opencv_on_the_whole_mask():
     import cv2
-    from slicelab.toolpath.masks import dilate_mask, near_mask
+    from slicelab.printing.grid.masks import dilate_mask, near_mask
     # A ring: full blocks in its wall, empty ones in its hole and around it, active ones between.
     a = rasterize(section_of([circle(9.0, 128), circle(3.0, 64)[::-1]]), 0.05, band=0.4).tiles[0]
     assert a.blocks.n_full > 0 and (a.blocks.table == -1).any()
@@ -201,7 +201,7 @@ def test_a_strip_thinner_than_the_disc_across_a_block_seam_opens_to_nothing_from
     # other's pixels beside its own copy, eight in a row, which survive an erosion of radius 2.
     # Only the blocks' own pixels may decide, without the second, wider pass of the opening.
     from slicelab.geometry.blocks import BlockGrid
-    from slicelab.toolpath.masks import open_mask
+    from slicelab.printing.grid.masks import open_mask
     strip = np.array([[2.95, 0.0], [3.35, 0.0], [3.35, 4.0], [2.95, 4.0]])  # pixel columns 30-33
     m = rasterize(section_of([strip]), 0.1).tiles[0]
     assert m.blocks.n_full == 0 and len(np.unique(m.blocks.origins()[1])) == 2
@@ -237,7 +237,7 @@ def test_a_shell_inside_another_bounds_material_only_under_evenodd(rule):
 def test_a_raster_drawn_on_the_neighbours_mask_is_the_raster_drawn_afresh(rule):
     """The planner draws each neighbour's mask alone (`layer_mask`) and a layer's islands and bounding
     edges on that mask: the same raster as drawn whole, and the mask is taken as it is."""
-    from slicelab.toolpath.raster import layer_mask
+    from slicelab.printing.grid.raster import layer_mask
     s = slicelab.section(concat(box((0, 0, 0), (20, 20, 2)), box((6, 6, 0), (14, 14, 2)),
                                 box((16, 2, 0), (18, 4, 2), inward=True), box((30, 0, 0), (33, 3, 2))),
                          (0, 0, 1), (0, 0, 1))
@@ -258,7 +258,7 @@ def test_a_mask_dilated_by_the_reach_disc_is_what_the_distance_transform_puts_wi
     # distance to it: the same pixels, ties at the reach included (float32, as OpenCV measures;
     # 0.05 mm pixels and 0.5 mm lines put pixels 6 apart at 5.999999999999999 reaches).
     import cv2
-    from slicelab.toolpath.masks import reach_disc
+    from slicelab.printing.grid.masks import reach_disc
     rng = np.random.default_rng(3)
     for t in range(120):
         p = (0.05, 0.1, 0.2, 0.15, 0.3)[t % 5]

@@ -62,7 +62,7 @@ def test_impossible_work_is_refused_up_front(case, files):
 def test_a_part_too_thin_for_any_line_is_refused_and_a_pillar_a_line_wide_prints(tmp_path):
     # A 0.3 mm pillar holds no 0.4 mm line: the planner finds nothing but its skirt, and the command
     # says so in one line, writing neither G-code nor previews; a 1 mm pillar prints its perimeter.
-    from slicelab.toolpath import PrintSettings, plan
+    from slicelab.printing import PrintSettings, plan
     with pytest.raises(ValueError, match=r"^nothing to print: the part \(0.3 x 0.3 x 2 mm\) is too thin"):
         plan(box((0, 0, 0), (0.3, 0.3, 2)), PrintSettings(), workers=1)
     for side, code in ((0.3, 2), (1.0, 0)):

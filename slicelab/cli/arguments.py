@@ -92,7 +92,7 @@ def options(args, job: str, **more) -> dict:
     reading = {n: getattr(args, n) for n in ("units", "scale") if getattr(args, n, None) is not None}
     names = set(JOBS[job].defaults)
     if job == "slice":  # its parameters are the print settings' fields
-        from ..toolpath import setting_names
+        from ..printing import setting_names
         names |= set(setting_names())
     return {**{n: getattr(args, n) for n in names if hasattr(args, n)}, **reading, **more}
 

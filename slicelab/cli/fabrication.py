@@ -39,7 +39,7 @@ DOCS = {
         "description": 'Plan every layer of FILE (perimeters, solid top and bottom skins, bridges, sparse infill, '
                        'supports with --support) on all cores and write Marlin G-code; overhangs left unheld and '
                        "islands starting in mid-air are named in a warning. Settings left out take the printer "
-                       "profile's, the settings file's, then slicelab.toolpath.PrintSettings' defaults.",
+                       "profile's, the settings file's, then slicelab.printing.PrintSettings' defaults.",
     },
 }
 
@@ -132,14 +132,14 @@ def _run_arrange(args) -> int:
 
 class _Default:
     """A print setting's default, said in its flag's help (``%(setting_default)s``): read from
-    `slicelab.toolpath.PrintSettings` (the prusa-mk3 profile's values) only when help is shown,
+    `slicelab.printing.PrintSettings` (the prusa-mk3 profile's values) only when help is shown,
     so that building the parser, as every command does, imports no settings."""
 
     def __init__(self, name: str):
         self.name = name
 
     def __str__(self) -> str:
-        from ..toolpath.settings import PrintSettings
+        from ..printing.config.settings import PrintSettings
         value = getattr(PrintSettings(), self.name)
         if isinstance(value, tuple):
             return "x".join(f"{v:g}" for v in value)
@@ -229,7 +229,7 @@ def _run_slice(args) -> int:
     if args.print_config:
         from ..tasks.fabrication import slice_settings
         from ..tasks.jobs import job_parameters
-        from ..toolpath.printers import format_config
+        from ..printing.config.printers import format_config
         print(format_config(slice_settings(job_parameters("slice", **params))), end="")
         return 0
     mesh, name = None, args.files[0]

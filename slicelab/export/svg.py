@@ -100,7 +100,7 @@ class SvgDrawing:
 
     def _each_path_data(self, polylines, closed: bool = False) -> list[str]:
         """Each polyline's path data ("" for one without points)."""
-        from .text_kernels import path_data
+        from ..gcode.text_kernels import path_data
         raw = [np.asarray(p, dtype=np.float64).reshape(-1, 2) for p in polylines]
         full = [i for i, x in enumerate(raw) if len(x)]
         out = [""] * len(raw)

@@ -15,7 +15,7 @@ pixels away gives on each block's own pixels what it gives on the whole grid.
 
 See Also
 --------
-slicelab.toolpath.masks.BlockMask : a layer's material held by blocks.
+slicelab.printing.grid.masks.BlockMask : a layer's material held by blocks.
 slicelab.geometry.contours.march_blocks : marching squares over the stack, chained across blocks.
 """
 from __future__ import annotations

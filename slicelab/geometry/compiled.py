@@ -1,7 +1,7 @@
 """The compiled kernels: built ahead of time into an extension module, else compiled by numba on first use.
 
 The kernels of the modules in `MODULES` (`slicelab.geometry.kernels`,
-`slicelab.geometry.segment_kernels`, `slicelab.export.text_kernels`, ...) are plain
+`slicelab.geometry.segment_kernels`, `slicelab.gcode.text_kernels`, ...) are plain
 Python functions decorated with this module's `njit`. Each call goes to one of two compiled forms of
 the same source:
 
@@ -44,7 +44,7 @@ __all__ = ["njit", "Kernel", "build", "status", "select", "arguments_key"]
 
 #: The modules whose kernels are built (in slicelab).
 MODULES = ("geometry.kernels", "geometry.march_kernels", "geometry.segment_kernels", "geometry.offset_kernels",
-           "geometry.graph_kernels", "geometry.polygon_kernels", "geometry.slice_kernels", "export.text_kernels")
+           "geometry.graph_kernels", "geometry.polygon_kernels", "geometry.slice_kernels", "gcode.text_kernels")
 #: Name of the extension module `build` writes beside this file, and of its table.
 EXTENSION = "_aot_kernels"
 _HERE = Path(__file__).resolve().parent

@@ -8,7 +8,7 @@ Douglas-Peucker), numpy the rest; no Python loop runs over pixels.
 See Also
 --------
 slicelab.geometry.chains : chaining the marching-squares segments into rings.
-slicelab.toolpath.distance : the distance fields whose level sets these are.
+slicelab.printing.grid.distance : the distance fields whose level sets these are.
 """
 from __future__ import annotations
 
@@ -259,7 +259,7 @@ def simplify_ring(ring: np.ndarray, tolerance: float) -> np.ndarray:
     See Also
     --------
     march : the rings this simplifies.
-    slicelab.toolpath.simplify.simplify_rings : many rings at once.
+    slicelab.printing.steps.simplify.simplify_rings : many rings at once.
 
     References
     ----------

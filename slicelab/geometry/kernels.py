@@ -6,8 +6,8 @@ cost (tens of microseconds each) adds up to most of a layer's time; these
 loops do each pass in one compiled call instead (numba, compiled on first use
 and cached on disk beside this file). Each kernel is a plain loop over its
 input, linear in it; the modules that call them (`slicelab.geometry.blocks`,
-`slicelab.toolpath.masks`,
-`slicelab.toolpath.raster`) keep the interfaces and say what the results mean.
+`slicelab.printing.grid.masks`,
+`slicelab.printing.grid.raster`) keep the interfaces and say what the results mean.
 
 See Also
 --------

@@ -9,7 +9,7 @@ reads them), in one compiled pass per level.
 
 See Also
 --------
-slicelab.toolpath.distance.level_rings : the rings this moves.
+slicelab.printing.grid.distance.level_rings : the rings this moves.
 slicelab.geometry.spatial.SegmentIndex.piece_buckets : the buckets.
 
 References

@@ -18,7 +18,7 @@ References
 
 See Also
 --------
-slicelab.toolpath.perimeters.split_by_mask : the walls cut along a mask.
+slicelab.printing.steps.perimeters.split_by_mask : the walls cut along a mask.
 """
 from __future__ import annotations
 

@@ -2,8 +2,8 @@
 
 Each is one plain loop over its input, compiled by numba and cached on disk
 beside this file, in place of dozens of small numpy calls; the modules that
-call them (`slicelab.geometry.spatial`, `slicelab.toolpath.distance`,
-`slicelab.toolpath.raster`, `slicelab.toolpath.simplify`) keep the interfaces
+call them (`slicelab.geometry.spatial`, `slicelab.printing.grid.distance`,
+`slicelab.printing.grid.raster`, `slicelab.printing.steps.simplify`) keep the interfaces
 and say what the results mean. `slicelab.geometry.kernels.warm` loads them
 with the pixel kernels.
 
@@ -378,7 +378,7 @@ def row_crossings(edges, p, r_first, r_stop):
 
     Row r is crossed when ``ceil(ymin / p) <= r < ceil(ymax / p)``, so a row through a vertex
     shared by two edges is counted once. Edge by edge, rows rising, in one pass that makes no
-    arrays but its results (`slicelab.toolpath.raster.winding_numbers` and `winding_blocks` sum
+    arrays but its results (`slicelab.printing.grid.raster.winding_numbers` and `winding_blocks` sum
     the steps along the rows).
     """
     m = len(edges)

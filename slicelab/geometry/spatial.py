@@ -2,7 +2,7 @@
 
 See Also
 --------
-slicelab.toolpath.distance : exact distance fields measured with `SegmentIndex`.
+slicelab.printing.grid.distance : exact distance fields measured with `SegmentIndex`.
 """
 from __future__ import annotations
 

@@ -46,7 +46,7 @@ def die_with_parent(pid: int) -> None:  # pragma: no cover - runs in the worker 
     The pool's workers are forked from a fork server, not from the batch. The
     fork server exits when the batch dies (the worker lets go of what would
     keep it running, `_let_go_of_forkserver`), and the kernel's parent-death
-    signal (`slicelab.toolpath.pool.end_with_parent`) then ends the worker,
+    signal (`slicelab.printing._pool.end_with_parent`) then ends the worker,
     even one stuck in compiled code. A daemon thread also checks the batch
     twice a second, for systems without that signal: once the batch has
     died, the worker ends the fork server that started it (which serves that
@@ -56,7 +56,7 @@ def die_with_parent(pid: int) -> None:  # pragma: no cover - runs in the worker 
     """
     import signal
 
-    from ..toolpath.pool import end_with_parent
+    from ..printing._pool import end_with_parent
     server = os.getppid()  # the fork server; with the spawn start method, the batch itself
     if server != pid:
         _let_go_of_forkserver()

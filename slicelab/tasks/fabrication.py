@@ -2,7 +2,7 @@
 
 Each job calls its library function and writes the outputs; the work itself
 lives in `slicelab.slicing.cut`, `slicelab.slicing.partition` and
-`slicelab.toolpath.planner`.
+`slicelab.printing.planner`.
 
 See Also
 --------
@@ -215,7 +215,7 @@ PARTITION = Job(
 
 # ----------------------------------------------------------------------- slice
 def _setting_names() -> set:
-    from ..toolpath import setting_names
+    from ..printing import setting_names
     return set(setting_names())
 
 
@@ -228,18 +228,18 @@ def _size(name: str, value) -> list:
 
 def _slice_parameters(printer=None, config=None, workers=None, preview: bool = False, repair: bool = True,
                       fill_holes: bool = False, **settings) -> dict:
-    """`slicelab.toolpath.PrintSettings` fields in `settings` (left out: the printer profile's, then the
+    """`slicelab.printing.PrintSettings` fields in `settings` (left out: the printer profile's, then the
     settings file's, then PrintSettings' defaults; the first layer as thick as the others unless given;
     bed_size as ``"250x210"`` or two numbers); printer: a bundled profile's name; config: a TOML
     settings file; workers: processes (None: all cores); preview: layer SVGs and a PNG; repair:
     `slicelab.repair` the mesh first when its check finds something to mend, as PrusaSlicer does
     (False refuses such a mesh instead); fill_holes: repair, and close the holes too."""
-    from ..toolpath import PrintSettings, setting_names
-    from ..toolpath.printers import resolve_settings
+    from ..printing import PrintSettings, setting_names
+    from ..printing.config.printers import resolve_settings
     known = set(setting_names())
     for name in settings:
         if name not in known:
-            raise ParameterError(name, "is not a print setting (see slicelab.toolpath.PrintSettings)")
+            raise ParameterError(name, "is not a print setting (see slicelab.printing.PrintSettings)")
     given = {k: v for k, v in settings.items() if v is not None}
     if "first_layer_height" not in given and "layer_height" in given:
         given["first_layer_height"] = given["layer_height"]
@@ -267,13 +267,13 @@ def slice_settings(params: dict):
 
 def _settings(p):
     """The PrintSettings of checked slice parameters."""
-    from ..toolpath import PrintSettings
+    from ..printing import PrintSettings
     known = _setting_names()
     return PrintSettings(**{k: v for k, v in p.items() if k in known})
 
 
 def _slice_feasible(inp, p):
-    from ..toolpath.bed import check_bed
+    from ..printing.config.bed import check_bed
     from .limits import check_print
     # An open or inside-out mesh has no inside: its layers would print fragments (pins for a plate).
     # A surface whose every edge is walked as often both ways bounds a solid by winding number,
@@ -297,8 +297,8 @@ def _slice_feasible(inp, p):
 
 
 def _slice_compute(inp, p):
-    from ..export import layer_drawings, layer_texts
-    from ..toolpath import plan
+    from ..gcode import layer_drawings, layer_texts
+    from ..printing import plan
     # The workers format each layer's G-code (and draw its preview) as they plan it: the writers
     # then only join the text and write the files.
     return plan(inp.mesh, _settings(p), workers=p["workers"], layer_text=layer_texts,
@@ -306,14 +306,14 @@ def _slice_compute(inp, p):
 
 
 def _slice_write(pp, inp, p, out):
-    from ..export import write_gcode
+    from ..gcode import write_gcode
     notes = [f"repaired: {change}" for change in inp.repair.changes()] if inp.repair is not None else []
     if not p["preview"]:
         totals = write_gcode(pp, out.path("gcode"), workers=p["workers"], notes=notes)
         return {"results": {"print_time": totals["seconds"], "filament_used": totals["filament"]}}
     if out.folder is None:
         raise ValueError("a preview needs a folder")
-    from ..export import write_svgs
+    from ..gcode import write_svgs
     from ..viz import preview_png
     totals = write_gcode(pp, out.path("gcode"), workers=p["workers"], notes=notes)  # (may fork: before any thread)
     svgs = []

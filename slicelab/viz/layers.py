@@ -3,7 +3,7 @@
 Each plotting helper draws on a given Axes (or a new one) and returns the
 Axes; `preview_png` draws a few layers of a plan into a PNG file with OpenCV
 (`slicelab.viz.canvas`), without matplotlib. Paths are coloured by role from
-`slicelab.toolpath.roles.STYLES`.
+`slicelab.printing.roles.STYLES`.
 """
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ import math
 
 import numpy as np
 
-from ..toolpath.roles import STYLES
+from ..printing.roles import STYLES
 
 __all__ = ["plot_raster", "plot_distance", "plot_toolpath", "plot_coverage", "plan_3d", "preview_png"]
 
@@ -56,9 +56,9 @@ def plot_raster(raster, hierarchy=None, ax=None, *, cmap="tab10"):
     """
     import matplotlib.pyplot as plt
 
-    from ..toolpath.hierarchy import raster_hierarchy
+    from ..printing.grid.hierarchy import raster_hierarchy
     ax = _axes(ax)
-    from ..toolpath.masks import GridMask
+    from ..printing.grid.masks import GridMask
     for tile in raster.tiles:  # each island in its own box (far-apart islands share a tile)
         boxes = raster.island_boxes.tolist() or [(tile.row0, tile.col0, tile.row0 + tile.shape[0] - 1,
                                                   tile.col0 + tile.shape[1] - 1)]
@@ -160,7 +160,7 @@ def plot_coverage(paths, raster=None, ax=None, *, pixel_size: float | None = Non
     """
     from matplotlib.colors import ListedColormap
 
-    from ..toolpath.paths import coverage_map
+    from ..printing.steps.paths import coverage_map
     ax = _axes(ax)
     p = raster.pixel_size if raster is not None else (pixel_size or 0.1)
     counts, grid = coverage_map(paths, p)
@@ -231,7 +231,7 @@ def preview_png(plan, path, layers=None, *, pixels: int = 400) -> dict:
     matplotlib figure, whose import and layout cost `slicelab slice --preview`
     some 0.4 s (measured by hand): each panel is framed, with millimetre ticks, and titled with
     its layer and height; paths are drawn in their roles' colours
-    (`slicelab.toolpath.roles.STYLES`), a colour at a time, over the travel
+    (`slicelab.printing.roles.STYLES`), a colour at a time, over the travel
     between them.
 
     Parameters
@@ -254,7 +254,7 @@ def preview_png(plan, path, layers=None, *, pixels: int = 400) -> dict:
     --------
     plan_3d : the layers in 3-D.
     plot_toolpath : one layer on a matplotlib Axes.
-    slicelab.export.layer_svgs.write_svgs : every layer at true scale.
+    slicelab.gcode.layer_svgs.write_svgs : every layer at true scale.
 
     Examples
     --------

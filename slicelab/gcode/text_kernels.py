@@ -1,0 +1,591 @@
+"""Compiled text: a layer's G-code moves written as Python's ``%.3f`` / ``%.5f`` would, in one pass,
+and SVG path data.
+
+A layer's G-code is mostly lines ``G1 X.. Y.. E..``, some thousands of them, with a
+few headers, travels and retractions between its paths. `layer_moves` writes a whole
+layer (all but its first line) into one byte buffer in a compiled loop
+(`slicelab.geometry.compiled`), byte for byte what `slicelab.gcode.writer` writes
+with Python, and gives the layer's filament and time as the Python writer sums them:
+`stream_seconds` is `slicelab.gcode.estimate.move_times` with numpy's pairwise
+summation. `format_moves` writes the extrusion lines alone, `format_path_data` the path data
+(``M x,y L x,y ...``) of `slicelab.export.svg.SvgDrawing`. Each number is rounded exactly
+(the product by 10^d taken with its rounding error, ties to even, as Python rounds the
+exact binary value), with Python's sign (``-0.000`` for a small negative number); a number
+it cannot write (not finite, or too large) leaves the layer to Python.
+
+See Also
+--------
+slicelab.gcode.writer.write_gcode : the writer that uses it.
+
+References
+----------
+.. [1] T. J. Dekker, "A floating-point technique for extending the available precision",
+   Numerische Mathematik 18, 1971 (the exact product of two doubles as a sum of two).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..geometry.compiled import njit
+
+__all__ = ["format_moves", "fixed", "format_path_data", "path_data", "layer_moves", "stream_seconds", "warm"]
+
+#: Veltkamp's splitter for doubles (2^27 + 1).
+_SPLIT = 134217729.0
+
+
+@njit(cache=True, nogil=True)
+def _rounded(x, scale):
+    """|x| x scale rounded to the nearest integer, ties to even, from the exact product; -1 if
+    the result would not fit an int64 (the caller then formats another way)."""
+    a = abs(x)
+    p = a * scale
+    if not p < 9.0e15:
+        return -1
+    # Dekker's product: p + err == a * scale exactly.
+    t = _SPLIT * a
+    ah = t - (t - a)
+    al = a - ah
+    t = _SPLIT * scale
+    bh = t - (t - scale)
+    bl = scale - bh
+    err = ((ah * bh - p) + ah * bl + al * bh) + al * bl
+    f = np.floor(p)
+    d = (p - f) - 0.5  # exact: p < 2^53, so its fraction and 1/2 share its last bit
+    r = d + err  # its sign is the exact sum's sign
+    q = np.int64(f)
+    if r > 0 or (r == 0 and q % 2 == 1):
+        q += 1
+    return q
+
+
+@njit(cache=True, nogil=True)
+def _put(out, pos, x, digits, scale):
+    """Write x with `digits` decimals at out[pos:]; the new position, or -1 if x is not finite
+    or too large."""
+    if not np.isfinite(x):
+        return -1
+    q = _rounded(x, scale)
+    if q < 0:
+        return -1
+    if x < 0 or (x == 0 and np.signbit(x)):
+        out[pos] = 45  # "-"
+        pos += 1
+    whole = q // np.int64(scale)
+    frac = q - whole * np.int64(scale)
+    # The whole part's digits, most significant first.
+    n = 1
+    w = whole
+    while w >= 10:
+        w //= 10
+        n += 1
+    w = whole
+    for i in range(n - 1, -1, -1):
+        out[pos + i] = 48 + w % 10
+        w //= 10
+    pos += n
+    if digits > 0:
+        out[pos] = 46  # "."
+        pos += 1
+        for i in range(digits - 1, -1, -1):
+            out[pos + i] = 48 + frac % 10
+            frac //= 10
+        pos += digits
+    return pos
+
+
+@njit(cache=True, nogil=True)
+def format_moves(values, out, offsets):
+    """Lines ``G1 X<x> Y<y> E<e>`` (3, 3 and 5 decimals) for rows 1.. of `values`.
+
+    Parameters
+    ----------
+    values : (n, 3) float64 ndarray
+        x, y and the filament of the move to each row's point (row 0 has no move).
+    out : (m,) uint8 ndarray
+        Room for the text: 80 bytes a row is enough for any number under 9e10.
+    offsets : (n + 1,) int64 ndarray
+        Filled: the line of row i is ``out[offsets[i]:offsets[i + 1]]`` (i >= 1).
+
+    Returns
+    -------
+    int
+        The text's length, or -1 if a value is not finite or too large to format here.
+    """
+    n = values.shape[0]
+    pos = 0
+    offsets[0] = 0
+    if n > 0:
+        offsets[1] = 0
+    for i in range(1, n):
+        out[pos] = 71  # "G1 X"
+        out[pos + 1] = 49
+        out[pos + 2] = 32
+        out[pos + 3] = 88
+        pos = _put(out, pos + 4, values[i, 0], 3, 1000.0)
+        if pos < 0:
+            return -1
+        out[pos] = 32  # " Y"
+        out[pos + 1] = 89
+        pos = _put(out, pos + 2, values[i, 1], 3, 1000.0)
+        if pos < 0:
+            return -1
+        out[pos] = 32  # " E"
+        out[pos + 1] = 69
+        pos = _put(out, pos + 2, values[i, 2], 5, 100000.0)
+        if pos < 0:
+            return -1
+        out[pos] = 10
+        pos += 1
+        offsets[i + 1] = pos
+    return pos
+
+
+@njit(cache=True, nogil=True)
+def _trimmed(out, start, pos):
+    """The end of the number written at out[start:pos] with its fraction's trailing zeros (and a
+    bare point) dropped, as Python's ``.rstrip("0").rstrip(".")`` of a number with decimals."""
+    while pos > start and out[pos - 1] == 48:  # "0"
+        pos -= 1
+    if pos > start and out[pos - 1] == 46:  # "."
+        pos -= 1
+    return pos
+
+
+@njit(cache=True, nogil=True)
+def format_path_data(xy, bounds, digits, scale, closed, out, offsets):
+    """SVG path data ``M x,y L x,y ...`` (and `` Z`` when `closed`) of each polyline, numbers with
+    `digits` decimals (>= 1), trailing zeros dropped.
+
+    Parameters
+    ----------
+    xy : (n, 2) float64 ndarray
+        The polylines' points, one after another (already rounded to `digits`, no -0).
+    bounds : (m + 1,) int64 ndarray
+        Polyline i is ``xy[bounds[i]:bounds[i + 1]]``, of one point or more.
+    digits : int
+    scale : float
+        10^digits.
+    closed : bool
+    out : (k,) uint8 ndarray
+        Room for the text: 2 (24 + digits) bytes a point and 3 a polyline are enough.
+    offsets : (m + 1,) int64 ndarray
+        Filled: polyline i's data is ``out[offsets[i]:offsets[i + 1]]``.
+
+    Returns
+    -------
+    int
+        The text's length, or -1 if a value is not finite or too large to format here.
+    """
+    pos = 0
+    for i in range(len(bounds) - 1):  # over polylines
+        offsets[i] = pos
+        for j in range(bounds[i], bounds[i + 1]):  # over points
+            if j == bounds[i]:
+                out[pos] = 77  # "M"
+                pos += 1
+            else:
+                out[pos] = 32  # " L"
+                out[pos + 1] = 76
+                pos += 2
+            for c in range(2):  # x, y
+                start = pos
+                pos = _put(out, pos, xy[j, c], digits, scale)
+                if pos < 0:
+                    return -1
+                pos = _trimmed(out, start, pos)
+                if c == 0:
+                    out[pos] = 44  # ","
+                    pos += 1
+        if closed:
+            out[pos] = 32  # " Z"
+            out[pos + 1] = 90
+            pos += 2
+    offsets[len(bounds) - 1] = pos
+    return pos
+
+
+@njit(cache=True, nogil=True)
+def _block_sum(a, lo, n):
+    """numpy's sum of a[lo:lo + n], n <= 128: eight accumulators (fewer than 8: in order)."""
+    if n < 8:
+        res = 0.0
+        for i in range(n):
+            res += a[lo + i]
+        return res
+    r0, r1, r2, r3 = a[lo], a[lo + 1], a[lo + 2], a[lo + 3]
+    r4, r5, r6, r7 = a[lo + 4], a[lo + 5], a[lo + 6], a[lo + 7]
+    i = 8
+    while i < n - (n % 8):
+        j = lo + i
+        r0 += a[j]
+        r1 += a[j + 1]
+        r2 += a[j + 2]
+        r3 += a[j + 3]
+        r4 += a[j + 4]
+        r5 += a[j + 5]
+        r6 += a[j + 6]
+        r7 += a[j + 7]
+        i += 8
+    res = ((r0 + r1) + (r2 + r3)) + ((r4 + r5) + (r6 + r7))
+    while i < n:
+        res += a[lo + i]
+        i += 1
+    return res
+
+
+@njit(cache=True, nogil=True)
+def _pairwise(a, lo, n):
+    """a[lo:lo + n].sum() as numpy sums a contiguous float64 array, bit for bit: halves (cut at a
+    multiple of 8) summed apart and added, down to blocks of 128 or fewer (`_block_sum`). The
+    halving is walked with a stack, not by recursion (a compiled module cannot call itself)."""
+    if n <= 128:
+        return _block_sum(a, lo, n)
+    spans = np.empty((64, 3), np.int64)  # lo, n, next step (0: left half, 1: right half, 2: add)
+    values = np.empty(64)
+    top = nv = 0
+    spans[0, 0], spans[0, 1], spans[0, 2] = lo, n, 0
+    while top >= 0:
+        s_lo, s_n, step = spans[top, 0], spans[top, 1], spans[top, 2]
+        if s_n <= 128:
+            values[nv] = _block_sum(a, s_lo, s_n)
+            nv += 1
+            top -= 1
+            continue
+        half = s_n // 2
+        half -= half % 8
+        if step == 2:
+            values[nv - 2] = values[nv - 2] + values[nv - 1]
+            nv -= 1
+            top -= 1
+            continue
+        spans[top, 2] = step + 1
+        top += 1
+        if step == 0:
+            spans[top, 0], spans[top, 1] = s_lo, half
+        else:
+            spans[top, 0], spans[top, 1] = s_lo + half, s_n - half
+        spans[top, 2] = 0
+    return values[0]
+
+
+@njit(cache=True, nogil=True)
+def stream_seconds(rows, start, acceleration, jerk):
+    """The time of a stream of moves, as `slicelab.gcode.estimate.move_times` gives it and
+    numpy sums it, bit for bit.
+
+    Parameters
+    ----------
+    rows : (n, 5) float64 ndarray
+        Each move's end x, y, z, filament and feed rate (mm/s), as written
+        (ends rounded to 3 decimals and filament to 5 here, as the text rounds them).
+    start : (3,) float64 ndarray
+        The nozzle before the first move.
+    acceleration, jerk : float
+
+    Returns
+    -------
+    float
+    """
+    n = rows.shape[0]
+    if n == 0:
+        return 0.0
+    a = acceleration
+    ends = np.empty((n, 3))
+    for i in range(n):
+        for c in range(3):
+            ends[i, c] = np.rint(rows[i, c] * 1000.0) / 1000.0
+    length = np.empty(n)
+    planar = np.empty(n)
+    ux = np.empty(n)
+    uy = np.empty(n)
+    flat = np.empty(n, np.bool_)
+    for i in range(n):
+        sx, sy, sz = (start[0], start[1], start[2]) if i == 0 else (ends[i - 1, 0], ends[i - 1, 1], ends[i - 1, 2])
+        dx, dy, dz = ends[i, 0] - sx, ends[i, 1] - sy, ends[i, 2] - sz
+        pl = np.hypot(dx, dy)
+        planar[i] = pl
+        ln = np.sqrt(pl * pl + dz * dz)
+        length[i] = ln if ln > 0 else abs(np.rint(rows[i, 3] * 100000.0) / 100000.0)
+        flat[i] = pl > 0 and dz == 0
+        div = pl if pl > 0 else 1.0
+        ux[i] = dx / div
+        uy[i] = dy / div
+    # Squared speeds at the junctions (0 and n: the stream's ends), capped by the corners.
+    cap = np.zeros(n + 1)
+    for j in range(1, n):
+        if flat[j - 1] and flat[j]:
+            half_sin = 0.5 * np.hypot(ux[j] - ux[j - 1], uy[j] - uy[j - 1])
+            corner = jerk / (2 * half_sin) if half_sin > 1e-12 else np.inf
+            v = min(min(rows[j - 1, 4], rows[j, 4]), corner)
+            cap[j] = v * v
+    s = np.empty(n + 1)
+    s[0] = 0.0
+    for j in range(n):
+        s[j + 1] = s[j] + 2 * a * length[j]
+    fwd = np.empty(n + 1)
+    low = np.inf
+    for j in range(n + 1):  # forward pass: a junction is no faster than the one before allows
+        low = min(low, cap[j] - s[j])
+        fwd[j] = min(low + s[j], cap[j])
+    u = np.empty(n + 1)
+    low = np.inf
+    for j in range(n, -1, -1):  # backward pass
+        low = min(low, fwd[j] + s[j])
+        u[j] = max(min(low - s[j], fwd[j]), 0.0)
+    t = np.empty(n)
+    for i in range(n):
+        f, ln, u0, u1 = rows[i, 4], length[i], u[i], u[i + 1]
+        if not ln > 0:
+            t[i] = 0.0
+            continue
+        v0, v1 = np.sqrt(u0), np.sqrt(u1)
+        peak2 = a * ln + 0.5 * (u0 + u1)
+        if peak2 >= f * f:
+            t[i] = (f - v0) / a + (f - v1) / a + (ln - (2 * f * f - u0 - u1) / (2 * a)) / f
+        else:
+            t[i] = (2 * np.sqrt(peak2) - v0 - v1) / a
+    return _pairwise(t, 0, n)
+
+
+@njit(cache=True, nogil=True)
+def _text(out, pos, word):
+    """Copy the bytes of `word` to out[pos:]; the new position."""
+    for i in range(len(word)):
+        out[pos + i] = word[i]
+    return pos + len(word)
+
+
+@njit(cache=True, nogil=True)
+def _number(out, pos, head, x, digits, scale, tail):
+    """`head`, x with `digits` decimals (`_put`), `tail`; -1 if x cannot be written here."""
+    if pos < 0:
+        return -1
+    pos = _put(out, _text(out, pos, head), x, digits, scale)
+    return -1 if pos < 0 else _text(out, pos, tail)
+
+
+@njit(cache=True, nogil=True)
+def layer_moves(xy, counts, kind, width, numbers, speeds, perimeter, bridge, words, word_at, travel_f, retract_f,
+                start, pos, text):
+    """One layer's G-code after its first line: every path's ``;TYPE:``, ``;WIDTH:``, feed,
+    travel (retracting and lifting beyond the minimum travel) and extrusion moves, byte for
+    byte as `slicelab.gcode.writer` writes them with Python; the layer's filament and time.
+
+    Parameters
+    ----------
+    xy : (n, 2) float64 ndarray
+        The paths' points, path after path (bed coordinates).
+    counts : (p,) int64 ndarray
+        Points of each path (2 or more).
+    kind : (p,) int64 ndarray
+        Each path's kind: an index into `speeds`, `perimeter` and `word_at`.
+    width : (n,) float64 ndarray
+        Line width at each point.
+    numbers : (17,) float64 ndarray
+        z, layer height, filament fed per mm^3 of extrusion, bridge flow ratio, first layer
+        (1 or 0), speed factor, small perimeter speed, minimum print speed, first layer
+        speed, travel feed and retraction feed (mm/s, as written), retraction length, z
+        lift, shortest travel that retracts, small perimeter length, acceleration, jerk.
+    speeds : (k,) float64 ndarray
+        Print speed of each kind.
+    perimeter : (k,) bool ndarray
+        Kinds slowed to the small perimeter speed when closed and short.
+    bridge : int
+        The bridge's kind (its paths flow less and set the fan full), -1 if none.
+    words, word_at : uint8 ndarray, (k + 1,) int64 ndarray
+        Kind i's ``;TYPE:`` line is ``words[word_at[i]:word_at[i + 1]]``.
+    travel_f, retract_f : uint8 ndarrays
+        The travel and retraction feed rates as written (F values).
+    start : (3,) float64 ndarray
+        Where the layer's first line (its z move) leaves the nozzle.
+    pos : (3,) float64 ndarray
+        The last extrusion's end (x, y) and 1, or 0 third before any extrusion.
+    text : bool
+        False: the filament and the time only.
+
+    Returns
+    -------
+    out : (m,) uint8 ndarray
+        The text is ``out[:size]``; a NUL "FAN" NUL marker stands where a bridge ends
+        (the layer's own fan comes back).
+    size : int
+        -1 if a number cannot be written here (the caller then writes the layer with Python).
+    filament, seconds : float
+        As the Python writer sums them (`stream_seconds`).
+    """
+    z, h, k_e, bridge_ratio = numbers[0], numbers[1], numbers[2], numbers[3]
+    first, factor, small_speed, min_speed, first_speed = numbers[4] > 0, numbers[5], numbers[6], numbers[7], numbers[8]
+    travel_feed, retract_feed, retract, lift, min_travel = numbers[9], numbers[10], numbers[11], numbers[12], numbers[13]
+    small_length, acceleration, jerk = numbers[14], numbers[15], numbers[16]
+    n = xy.shape[0]
+    p = len(counts)
+    none = np.zeros(0, np.uint8)
+    newline = np.array([10], np.uint8)
+    fan_back = np.array([0, 70, 65, 78, 0], np.uint8)  # NUL FAN NUL
+    fan_full = np.array([77, 49, 48, 54, 32, 83, 50, 53, 53, 10], np.uint8)  # M106 S255
+    # The words as ASCII codes (a compiled module holds no byte strings): "G1 E", "G1 Z", "G0 X", "G1 X",
+    # " Y", " E", and the ends " F<travel feed>" and " F<retraction feed>" with their newlines.
+    g1_e, g1_z, g0_x, g1_x = (np.array([71, 49, 32, 69], np.uint8), np.array([71, 49, 32, 90], np.uint8),
+                              np.array([71, 48, 32, 88], np.uint8), np.array([71, 49, 32, 88], np.uint8))
+    sp_y, sp_e = np.array([32, 89], np.uint8), np.array([32, 69], np.uint8)
+    travel_end = np.concatenate((np.array([32, 70], np.uint8), travel_f, newline))
+    retract_end = np.concatenate((np.array([32, 70], np.uint8), retract_f, newline))
+    width_head = np.array([59, 87, 73, 68, 84, 72, 58], np.uint8)  # ;WIDTH:
+    width_tail = np.array([10, 71, 49, 32, 70], np.uint8)  # newline, G1 F
+    begins = np.empty(p, np.int64)
+    b = 0
+    for i in range(p):
+        begins[i] = b
+        b += counts[i]
+    m1 = max(n - 1, 0)
+    seg, e, e5, inner = np.empty(m1), np.empty(m1), np.empty(m1), np.empty(m1)
+    path = 0
+    for j in range(n - 1):  # segment j joins points j and j + 1
+        while path + 1 < p and begins[path + 1] <= j:
+            path += 1
+        seg[j] = np.hypot(xy[j + 1, 0] - xy[j, 0], xy[j + 1, 1] - xy[j, 1])
+        wm = 0.5 * (width[j] + width[j + 1])
+        inner[j] = 0.0 if j == begins[path] + counts[path] - 1 else wm  # one joining two paths counts nothing
+        flow = k_e * bridge_ratio if kind[path] == bridge else k_e
+        e[j] = wm * h * seg[j] * flow
+        e5[j] = np.rint(e[j] * 100000.0) / 100000.0
+    rows = np.empty((n + 5 * p + 1, 5))  # every move: x, y, z, filament, feed
+    rows[0, 0], rows[0, 1], rows[0, 2], rows[0, 3], rows[0, 4] = start[0], start[1], z, 0.0, travel_feed
+    m = 1
+    out = np.empty(80 * n + 400 * p + 200, np.uint8)
+    size = 0
+    filament = 0.0
+    current = -1
+    for i in range(p):  # over paths
+        a = begins[i]
+        b = a + counts[i]
+        k = kind[i]
+        if k != current:
+            if current >= 0 and current == bridge:
+                size = _text(out, size, fan_back)
+            size = _text(out, size, words[word_at[k]:word_at[k + 1]])
+            if k == bridge:  # bridge threads set in the air: full cooling
+                size = _text(out, size, fan_full)
+            current = k
+        x0, y0 = xy[a, 0], xy[a, 1]
+        if i == 0:
+            travel = np.hypot(x0 - pos[0], y0 - pos[1]) if pos[2] > 0 else np.inf
+        else:
+            travel = np.hypot(x0 - xy[a - 1, 0], y0 - xy[a - 1, 1])
+        if travel > 1e-9:
+            hop = travel > min_travel and retract > 0
+            if hop:
+                if text:
+                    size = _number(out, size, g1_e, -retract, 5, 100000.0, retract_end)
+                rows[m, 0], rows[m, 1], rows[m, 2] = rows[m - 1, 0], rows[m - 1, 1], rows[m - 1, 2]
+                rows[m, 3], rows[m, 4] = -retract, retract_feed
+                m += 1
+                if lift > 0:
+                    if text:
+                        size = _number(out, size, g1_z, z + lift, 3, 1000.0, travel_end)
+                    rows[m, 0], rows[m, 1], rows[m, 2] = rows[m - 1, 0], rows[m - 1, 1], z + lift
+                    rows[m, 3], rows[m, 4] = 0.0, travel_feed
+                    m += 1
+            zt = z + lift if hop else z
+            if text:
+                size = _number(out, size, g0_x, x0, 3, 1000.0, sp_y)
+                size = _number(out, size, none, y0, 3, 1000.0, travel_end)
+            rows[m, 0], rows[m, 1], rows[m, 2], rows[m, 3], rows[m, 4] = x0, y0, zt, 0.0, travel_feed
+            m += 1
+            if hop:
+                if lift > 0:
+                    if text:
+                        size = _number(out, size, g1_z, z, 3, 1000.0, newline)
+                    rows[m, 0], rows[m, 1], rows[m, 2], rows[m, 3], rows[m, 4] = x0, y0, z, 0.0, travel_feed
+                    m += 1
+                if text:
+                    size = _number(out, size, g1_e, retract, 5, 100000.0, retract_end)
+                rows[m, 0], rows[m, 1], rows[m, 2], rows[m, 3], rows[m, 4] = x0, y0, z, retract, retract_feed
+                m += 1
+        speed = first_speed if first else speeds[k]
+        if perimeter[k] and b - a > 3 and xy[a, 0] == xy[b - 1, 0] and xy[a, 1] == xy[b - 1, 1] \
+                and _pairwise(seg, a, b - 1 - a) < small_length:
+            speed = min(speed, small_speed)
+        if factor < 1:
+            speed = max(min(speed, min_speed), speed * factor)
+        # The path's mean width: its segments (and the one joining it to the next) summed as
+        # numpy's reduceat sums them, the first and then the rest pairwise.
+        last = b if i + 1 < p else n - 1
+        mean = (inner[a] + _pairwise(inner, a + 1, last - a - 1)) / max(counts[i] - 1, 1)
+        feed = np.rint(60 * speed) / 60
+        if text:
+            size = _number(out, size, width_head, mean, 3, 1000.0, width_tail)
+            size = _number(out, size, none, 60 * speed, 0, 1.0, newline)
+        for j in range(a + 1, b):  # the extrusion moves to the path's points
+            if text:
+                size = _number(out, size, g1_x, xy[j, 0], 3, 1000.0, sp_y)
+                size = _number(out, size, none, xy[j, 1], 3, 1000.0, sp_e)
+                size = _number(out, size, none, e[j - 1], 5, 100000.0, newline)
+            rows[m, 0], rows[m, 1], rows[m, 2], rows[m, 3], rows[m, 4] = xy[j, 0], xy[j, 1], z, e[j - 1], feed
+            m += 1
+        if size < 0:
+            return out, -1, 0.0, 0.0
+        filament += _pairwise(e5, a, b - 1 - a)
+    if current >= 0 and current == bridge:
+        size = _text(out, size, fan_back)
+    return out, size, filament, stream_seconds(rows[:m], start, acceleration, jerk)
+
+
+def fixed(values: np.ndarray) -> tuple[str, np.ndarray] | None:
+    """The moves' text for rows 1.. of (n, 3) `values` and each row's line offsets, or None if a
+    value cannot be formatted here (the caller formats those with Python).
+
+    Examples
+    --------
+    >>> text, off = fixed(np.array([[0, 0, 0], [1.0625, -0.0001, 0.123456], [2.5, 10.0, 1e-6]]))
+    >>> text[off[1]:off[3]]
+    'G1 X1.062 Y-0.000 E0.12346\\nG1 X2.500 Y10.000 E0.00000\\n'
+    >>> text[off[1]:off[3]] == "G1 X%.3f Y%.3f E%.5f\\n" % (1.0625, -0.0001, 0.123456) + \\
+    ...     "G1 X%.3f Y%.3f E%.5f\\n" % (2.5, 10.0, 1e-6)
+    True
+    """
+    v = np.ascontiguousarray(values, np.float64)
+    n = len(v)
+    out = np.empty(80 * max(n, 1), np.uint8)
+    offsets = np.zeros(n + 1, np.int64)
+    size = format_moves(v, out, offsets)
+    if size < 0:
+        return None
+    return out[:size].tobytes().decode("ascii"), offsets
+
+
+def path_data(xy: np.ndarray, bounds: np.ndarray, digits: int, closed: bool) -> list[str] | None:
+    """Each polyline's SVG path data (see `format_path_data`), or None if a value cannot be
+    formatted here or `digits` is below 1 (the caller formats those with Python).
+
+    Examples
+    --------
+    >>> path_data(np.array([[0.0, 1.5], [2.25, -0.1], [3.0, 4.0]]), np.array([0, 2, 3]), 4, True)
+    ['M0,1.5 L2.25,-0.1 Z', 'M3,4 Z']
+    """
+    if digits < 1:
+        return None
+    v = np.ascontiguousarray(xy, np.float64).reshape(-1, 2)
+    b = np.ascontiguousarray(bounds, np.int64)
+    out = np.empty(2 * (24 + int(digits)) * len(v) + 3 * len(b), np.uint8)
+    offsets = np.zeros(len(b), np.int64)
+    size = format_path_data(v, b, int(digits), float(10 ** int(digits)), bool(closed), out, offsets)
+    if size < 0:
+        return None
+    text = out[:size].tobytes().decode("ascii")
+    return [text[offsets[i]:offsets[i + 1]] for i in range(len(b) - 1)]
+
+
+def warm() -> None:
+    """Call the kernel once with the types the writer uses (see `slicelab.geometry.kernels.warm`).
+
+    Examples
+    --------
+    >>> warm()
+    """
+    fixed(np.zeros((2, 3)))
+    path_data(np.zeros((2, 2)), np.array([0, 2]), 3, False)
+    u8, i64 = np.zeros(1, np.uint8), np.zeros(2, np.int64)
+    layer_moves(np.zeros((2, 2)), np.full(1, 2, np.int64), np.zeros(1, np.int64), np.zeros(2), np.zeros(17),
+                np.zeros(1), np.zeros(1, np.bool_), -1, u8, i64, u8, u8, np.zeros(3), np.zeros(3), True)

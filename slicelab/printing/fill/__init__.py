@@ -1,0 +1,7 @@
+"""Filling: rectilinear lines and the infill patterns by name.
+
+==========================  =====================================================
+``fill.lines``              rectilinear filling lines, linked into zigzags
+``fill.patterns``           infill patterns by name: rectilinear, concentric, gyroid
+==========================  =====================================================
+"""

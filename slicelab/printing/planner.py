@@ -1,0 +1,597 @@
+"""Whole-part print planning: layers, top and bottom skins, parallel toolpaths.
+
+A part is cut once, in one vectorised pass (`slice_layers`), at the middle of
+every layer: the first layer is `first_layer_height` thick, the others
+`layer_height`. Layers are then independent except for one thing, the first
+and last layers: a region of a layer that the `top_layers` layers above (or
+the `bottom_layers` layers below) do not all cover is top (or bottom) skin,
+and must be filled solid. Masks share one world-anchored pixel grid, so a
+skin is a plain mask difference. Workers take runs of consecutive layers and
+rasterise the few neighbours they need themselves, so nothing but sections
+goes in and toolpaths come out. The first layer starts with its skirt and
+brim (`slicelab.printing.steps.skirt`); a part that does not fit the printer is
+refused before anything is sliced (`slicelab.printing.config.bed`).
+
+See Also
+--------
+slicelab.gcode.writer.write_gcode : the plan as printer G-code.
+"""
+from __future__ import annotations
+
+import gc
+import math
+import os
+import sys
+from dataclasses import dataclass, field, replace
+from functools import cached_property, partial
+
+import numpy as np
+
+from ..mesh.core import Mesh
+from .config.bed import check_bed, footprint_extent
+from ._reuse import RunStart
+from .config.settings import PrintSettings
+
+__all__ = ["PrintPlan", "plan", "layer_bounds"]
+
+
+def layer_bounds(height: float, layer_height: float, first_layer_height: float) -> np.ndarray:
+    """(n, 2) bottom and top of every layer of a part `height` tall, from 0.
+
+    The first layer is `first_layer_height` thick, the others `layer_height`;
+    a layer is printed when its middle lies inside the part.
+
+    Examples
+    --------
+    >>> layer_bounds(1.0, 0.3, 0.2).round(6).tolist()
+    [[0.0, 0.2], [0.2, 0.5], [0.5, 0.8], [0.8, 1.1]]
+    """
+    if height <= 0:
+        return np.zeros((0, 2))
+    n = int(math.ceil(max(0.0, height - first_layer_height) / layer_height)) + 1
+    tops = first_layer_height + layer_height * np.arange(n)
+    bottoms = np.concatenate([[0.0], tops[:-1]])
+    keep = (bottoms + tops) / 2 < height
+    return np.stack([bottoms[keep], tops[keep]], axis=1)
+
+
+@dataclass(frozen=True, eq=False)
+class PrintPlan:
+    """Every layer's toolpaths, bottom to top, with what the print will use.
+
+    Attributes
+    ----------
+    settings : PrintSettings
+    layers : list of LayerPaths
+        ``layers[k].z`` is the top of layer k above the bed (the nozzle height).
+    heights : (n,) ndarray
+        Thickness of each layer.
+    offset : (3,) ndarray
+        Translation from the part's coordinates to the bed's (added in G-code).
+    areas : (n, 4) ndarray
+        Per layer, the material area, the area inside the last perimeter and
+        its solid (skin) part (mm^2), from the rasters, and the length of the
+        sparse filling region's boundary (mm, from its level set).
+    part_volume : float
+        Sum of material area x layer height (mm^3).
+    overhangs : (n, 6) ndarray
+        Per layer (`slicelab.printing.steps.overhangs`): the area over nothing beyond the overhang
+        threshold and not bridged (mm^2), the islands that start in mid-air, the bridges,
+        a point (x, y; part coordinates, NaN if none) of the largest unheld part, and the
+        steepest overhang measured (degrees from the vertical, 0 within the threshold).
+    seconds : dict
+        Time spent slicing and making the paths.
+    texts : dict
+        Layers whose G-code the workers formatted as they planned them (``layer_text``):
+        index -> (the nozzle's start, the layer's block), taken by the G-code writer.
+    extent : (4,) tuple
+        ``(x0, y0, x1, y1)``, part coordinates (mm): the box of the part's footprint and of
+        its skirt and brim's outer edges, which holds every path.
+    drawings : dict
+        Layers the workers drew as they planned them (``layer_drawing``): index -> the
+        layer's SVG document, taken by `slicelab.gcode.layer_svgs.write_svgs`.
+    sunk : float
+        How far the part was lowered into the bed (mm) because its lowest layers held no line
+        (`plan`); what lies below the bed is not printed.
+
+    See Also
+    --------
+    slicelab.gcode.writer.write_gcode, slicelab.gcode.layer_svgs.write_svgs : the plan written out.
+    slicelab.viz.layers.preview_png, slicelab.viz.layers.plan_3d : pictures of its layers.
+    """
+
+    settings: PrintSettings
+    layers: list
+    heights: np.ndarray
+    offset: np.ndarray
+    areas: np.ndarray
+    part_volume: float = 0.0
+    seconds: dict = field(default_factory=dict)
+    overhangs: np.ndarray = field(default_factory=lambda: np.zeros((0, 6)))
+    texts: dict = field(default_factory=dict, repr=False)
+    extent: tuple = (0.0, 0.0, 0.0, 0.0)
+    drawings: dict = field(default_factory=dict, repr=False)
+    sunk: float = 0.0
+
+    def warnings(self) -> list[dict]:
+        """What will not print as planned, each a dict with a ``code`` and a ``message``.
+
+        ``lowered``: the part was lowered into the bed so that its first layer prints
+        (`sunk`); ``unsupported_overhang``: material over nothing beyond the overhang threshold
+        that no bridge holds (no supports are made); ``mid_air``: islands that start with
+        nothing under them.
+        """
+        ov = self.overhangs
+        out = []
+        if self.sunk:
+            out.append({"code": "lowered", "sunk_mm": self.sunk,
+                        "message": f"the part's lowest {self.sunk:.3g} mm hold no line (it touches the bed "
+                                   f"at a point or an edge): it was lowered {self.sunk:.3g} mm into the bed so "
+                                   f"that its first layer prints, and that much of its bottom is left out"})
+        if len(ov) == 0 or self.settings.support == "auto":  # supports hold all of it
+            return out
+        held = " (supports stand only on the bed: those over the part are not held)" \
+            if self.settings.support == "bed" else "; slicelab makes no supports unless asked (--support auto)"
+        z = self.z
+        hang = np.flatnonzero(ov[:, 0] > 0)
+        if len(hang):
+            k = hang[np.argmax(ov[hang, 0])]
+            steepest = float(ov[hang, 5].max())
+            out.append({"code": "unsupported_overhang", "area_mm2": float(ov[hang, 0].sum()),
+                        "layers": int(len(hang)), "first_z": float(z[hang[0]]), "steepest_deg": steepest,
+                        "message": f"{ov[hang, 0].sum():.1f} mm2 over nothing on {len(hang)} layers "
+                                   f"(from z = {z[hang[0]]:.2f} mm) overhang more than "
+                                   f"{self.settings.overhang_threshold:g} degrees (up to {steepest:.0f}) "
+                                   f"and no bridge holds them "
+                                   f"(largest at x = {ov[k, 3]:.1f}, y = {ov[k, 4]:.1f} mm in the part's "
+                                   f"coordinates){held}"})
+        air = np.flatnonzero(ov[:, 1] > 0)
+        if len(air):
+            out.append({"code": "mid_air", "islands": int(ov[air, 1].sum()), "first_z": float(z[air[0]]),
+                        "message": f"{int(ov[air, 1].sum())} island(s) start in mid-air (first at z = "
+                                   f"{z[air[0]]:.2f} mm) and would print onto nothing{held}"})
+        return out
+
+    def __repr__(self) -> str:
+        return (f"PrintPlan({len(self.layers)} layers, print {self.print_length / 1000:.1f} m, "
+                f"extruded {self.extruded_volume / 1000:.2f} cm3, filament {self.filament_length / 1000:.2f} m)")
+
+    @property
+    def z(self) -> np.ndarray:
+        return np.array([lp.z for lp in self.layers])
+
+    @cached_property
+    def extruded_volume(self) -> float:
+        """Volume of all extrusions, width x layer height x length (mm^3); summed once (the plan's
+        layers do not change)."""
+        return float(sum(lp.extruded_area() * h for lp, h in zip(self.layers, self.heights)))
+
+    @cached_property
+    def print_length(self) -> float:
+        """Total length of the extrusion paths (mm), summed once."""
+        return float(sum(lp.extrusion_length for lp in self.layers))
+
+    @property
+    def filament_length(self) -> float:
+        """Filament the extrusions consume (mm)."""
+        return self.extruded_volume * self.settings.extrusion_multiplier / self.settings.filament_area
+
+    def predicted_volume(self) -> float:
+        """Volume the part calls for: solid shells (perimeters, skins) plus sparse fill at its density.
+
+        From the part's rasters and distance fields, not from the toolpaths:
+        per layer, (material - inner region) + solid part of the inner region +
+        density x the rest, times the layer height. Sparse lines linked into
+        zigzags also run along about half of their region's boundary (every
+        other gap between two lines, on each side), so half that boundary
+        at one line width is added.
+        """
+        total, inner, solid, edge = self.areas.T
+        s = self.settings
+        d = s.infill_density
+        links = 0.5 * edge * s.line_width if d > 0 else 0.0
+        return float(np.sum(self.heights * ((total - inner) + solid + d * (inner - solid) + links)))
+
+
+# ------------------------------------------------------------------ workers
+_RUN = 20  # layers over which the nozzle is carried (seams), the paths' unit of work
+_START = 6  # first layers of a run made once for the runs that start alike (their toolpaths settle by then)
+_GROUP = 5  # runs per call at most: a worker's call holds the rasters of its layers' neighbours
+
+
+def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, s: PrintSettings,
+               layer_text=None, heights=None, layer_drawing=None, extent=None, repeat_tolerance: float = 1e-9,
+               starts: dict | None = None, state: dict | None = None):
+    """Toolpaths of layers first..stop-1 of n (and, given `layer_text` and `layer_drawing`, their
+    text and drawings: see `plan`).
+
+    `window` maps a layer's index to its section for these layers and the
+    `bottom_layers` below and `top_layers` above them (their skins need them);
+    `z_tops` are the tops of these layers. The nozzle is carried from one layer to the
+    next within each run of `_RUN` layers (and from `first`) and starts afresh at each run,
+    so the paths do not depend on how runs are grouped into calls. Each layer is rasterised
+    once, when the first layer that reads it comes, and dropped when the last has. A layer of a
+    prismatic stretch takes the toolpaths of the layer two below when all they depend on is
+    the same (`slicelab.printing._reuse`; outlines within `repeat_tolerance` mm), within a run
+    of layers; a run that starts as an earlier one did takes its first layers from `starts` (run
+    start -> `slicelab.printing._reuse.RunStart`). Everything comes as arguments: a pool's worker
+    needs no state from the parent. `state`, if given, receives the nozzle's position, the seam,
+    what `Repeats` keeps and the solid skin after the last layer.
+    """
+    from .steps.overhangs import EDGE_MARGIN, layer_overhangs, mark_overhangs
+    from .steps.paths import layer_paths
+    from .steps.perimeters import perimeter_band
+    from .steps.skins import internal_bridge, layer_skins
+    from .grid.raster import layer_mask, rasterize
+    from ._reuse import Repeats
+    from .steps.simplify import simplify_paths
+    from .steps.skirt import skirt_loops, with_skirt
+    sections = window
+    # Layers whose toolpaths the layer two above may take (gyroid infill changes with height).
+    repeats = Repeats(sections, n, (s.bottom_layers + 1, s.top_layers), repeat_tolerance,
+                      enabled=s.infill_pattern != "gyroid" or s.infill_density == 0)
+    band = perimeter_band(s.line_width, s.n_perimeters, s.infill_overlap, s.pixel_size)
+    edge_band = s.n_perimeters * s.line_width + EDGE_MARGIN if s.dont_support_bridges else None
+    rasters, masks = {}, {}
+
+    def reach(k):
+        """Masks of the layers layer k's skins read, and of none below them; the raster of layer k
+        (its islands and the edges that bound its material: only a layer planned needs them)."""
+        for j in [j for j in masks if j < k - s.bottom_layers - 1]:  # over the few left behind
+            del masks[j]
+        for j in range(max(0, k - s.bottom_layers - 1), min(n, k + s.top_layers + 1)):  # the window
+            if j not in masks:
+                masks[j] = layer_mask(sections[j], s.pixel_size, rule=s.rule, band=band)
+        if k not in rasters:
+            rasters.clear()
+            rasters[k] = rasterize(sections[k], s.pixel_size, rule=s.rule, band=band, tile=masks[k])
+
+    out = []
+    reach(first)  # (the skins of layer first - 1 read no further)
+    below_solid = layer_skins(first - 1, masks, s.skins, s.line_width)[0] if first > 0 else None
+    resume = first
+    for k in range(first, stop):  # over layers
+        if k < resume:
+            continue
+        if k == first or k % _RUN == 0:  # a run starts: the nozzle, and the seam below (aligned seams)
+            pos = seam = None
+            repeats.clear()
+            alike = starts.get(k) if starts else None
+            if alike is not None:  # a run that starts as an earlier one: what it made, at these heights
+                for i, (lp, areas, held, unheld) in enumerate(alike.layers):
+                    lp = replace(lp, z=float(z_tops[k + i - first]))
+                    lp.extruded_area()
+                    out.append((k + i, lp, areas, held, unheld))
+                pos, seam, below_solid = alike.pos, alike.seam, alike.below_solid
+                repeats.kept.update(alike.kept)
+                resume = k + len(alike.layers)
+                continue
+        parity = k % 2
+        taken = repeats.take(k, pos, seam)  # (a steady layer: before its raster and skins)
+        if taken is not None:  # the layer two below again: the same toolpaths, at this height
+            lp, _, areas, held = taken
+            outer = [q for kind, q, _ in lp.rows({"external"})]
+            seam = outer[0][0] if outer else seam
+            items = list(lp.ordered())
+            pos = items[-1][1][-1] if items else pos
+            below_solid = None
+            lp = replace(lp, z=float(z_tops[k - first]), perimeters=None)
+            lp.extruded_area()
+            out.append((k, lp, areas, held, ()))
+            continue
+        at, below = pos, seam
+        reach(k)  # (a layer that took the toolpaths below needs no raster, only its mask if a neighbour reads it)
+        solid, top = layer_skins(k, masks, s.skins, s.line_width)
+        solid_angle = (s.infill_angle + 90.0 * parity) if s.solid_angle is None else s.solid_angle
+        ov = None
+        if k > 0 and masks[k] is not None:  # the first layer lies on the bed
+            ov = layer_overhangs(masks[k], masks.get(k - 1), s.layer_height, threshold=s.overhang_threshold,
+                                 islands=rasters[k], edge_band=edge_band, angle=solid_angle,
+                                 below_section=sections.get(k - 1))
+        bridges = list(ov.bridges) if ov else []
+        if s.infill_density < 1 and k > 0:  # a skin's first layer over sparse infill bridges it
+            inner = internal_bridge(solid, masks.get(k - 1), below_solid, s.line_width, solid_angle)
+            bridges += [inner] if inner is not None else []
+        below_solid = solid
+        skirt = brim = ()
+        if k == 0:
+            skirt, brim = skirt_loops(sections[0], s.line_width, loops=s.skirt_loops, distance=s.skirt_distance,
+                                      brim_width=s.brim_width)
+            skirt, brim = (simplify_paths(q, s.gcode_resolution) for q in (skirt, brim))
+            if skirt or brim:
+                pos = (list(skirt) + list(brim))[-1][-1]
+        # With no bridge and nothing unheld, a layer with the outline, skins, start and seam of the
+        # layer two below makes what it made (a step within the skins' reach above or below).
+        plain = k > 0 and not bridges and not (ov is not None and len(ov.unheld))
+        made = repeats.take(k, pos, seam, (solid, top)) if plain else None
+        if made is not None:
+            _, lp, areas, _ = made  # (its toolpaths before the layer below marked them)
+        else:
+            lp = layer_paths(sections[k], s.line_width, s.n_perimeters, s.infill_density, s.infill_angle,
+                             s.pixel_size, layer_index=k, rule=s.rule, overlap=s.infill_overlap, solid=solid,
+                             solid_angle=solid_angle, top=top, bridges=bridges, start=pos, raster=rasters[k],
+                             pattern=s.infill_pattern,
+                             resolution=s.gcode_resolution, seam=s.seam_position, seam_point=seam,
+                             external_first=s.external_perimeters_first)
+            areas = _areas(lp, rasters[k], solid, s)
+        unmarked = replace(lp, perimeters=None)
+        outer = [q for kind, q, _ in lp.rows({"external"})]
+        if outer:
+            seam = outer[0][0]
+        lp = with_skirt(lp, skirt, brim)
+        if k > 0 and masks.get(k - 1) is not None:
+            lp = mark_overhangs(lp, masks[k - 1], sections[k - 1], rule=s.rule)
+        items = list(lp.ordered())
+        if items:
+            pos = items[-1][1][-1]
+        where = ov.where if ov is not None and ov.where is not None else (np.nan, np.nan)
+        held = (ov.overhang_area, ov.mid_air, len(ov.bridges), *where, ov.angle) if ov is not None \
+            else (0, 0, 0, np.nan, np.nan, 0.0)
+        if plain:  # for the layer two above: the toolpaths as marked here and before marking
+            repeats.keep(k, at, below, (solid, top), (replace(lp, perimeters=None), unmarked, areas, held))
+        lp = replace(lp, z=float(z_tops[k - first]), perimeters=None)
+        lp.extruded_area()  # summed here, on all cores: the sums travel with the layer (its cached state)
+        out.append((k, lp, areas, held, ov.unheld if ov is not None else ()))
+    if state is not None:
+        state.update(pos=pos, seam=seam, kept=dict(repeats.kept), below_solid=below_solid)
+    layers = [r[1] for r in out]
+    texts = [None] * len(out) if layer_text is None else layer_text(first, layers, heights)
+    drawings = [None] * len(out) if layer_drawing is None else layer_drawing(layers, extent)
+    return [(*r, t, d) for r, t, d in zip(out, texts, drawings)]
+
+
+def _areas(lp, raster, solid, s: PrintSettings) -> tuple[float, float, float, float]:
+    """Material area, area inside the last perimeter, its solid part (pixel counts, mm^2), and
+    the length of the sparse filling region's boundary (mm).
+
+    Counted on the distance fields' blocks: blocks deep inside count whole.
+    """
+    from ..geometry.blocks import FULL
+    from .grid.masks import bits_in_blocks
+    per = lp.perimeters
+    p = s.pixel_size
+    edge = sum(float(np.hypot(*(np.concatenate((r[1:], r[:1])) - r).T).sum())
+               for q in per.fill for r in (q.exterior, *q.holes))
+    total = inner = sol = 0.0
+    for f in per.fields:  # over tiles
+        g = f.grid.blocks
+        whole = g.n_full * g.size ** 2
+        region = f.grid.bits & (f.blocks >= s.n_perimeters * s.line_width)
+        total += np.count_nonzero(f.grid.bits) + whole
+        inner += np.count_nonzero(region) + whole
+        if solid is not None:
+            sol += np.count_nonzero(region & bits_in_blocks(solid, g.rows, g.cols, g.size))
+            fr, fc = np.nonzero(g.table == FULL)
+            sol += np.count_nonzero(bits_in_blocks(solid, fr + g.row0, fc + g.col0, g.size))
+    return total * p * p, inner * p * p, sol * p * p, edge
+
+
+def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | None = None,
+         progress: bool | None = None, layer_text=None, layer_drawing=None) -> PrintPlan:
+    """Plan a whole print: slice, find skins, make every layer's toolpaths in parallel.
+
+    Parameters
+    ----------
+    mesh : Mesh
+    settings : PrintSettings, optional
+    workers : int, optional
+        Processes (default: all cores); 1 runs in this process.
+    progress : bool, optional
+        Show a tqdm bar (default: when stderr is a terminal).
+    layer_text : callable, optional
+        ``layer_text(first, layers, heights, settings, offset)``, called by the workers on each
+        run of layers they plan (a module-level function, as the pool pickles it): what it
+        returns per layer, when not None, goes to `PrintPlan.texts`. The G-code writer's
+        `slicelab.gcode.writer.layer_texts` formats their G-code there, on all cores. Not
+        called with supports, which are added to the layers afterwards.
+    layer_drawing : callable, optional
+        ``layer_drawing(layers, extent)``, called by the workers likewise (extent: `PrintPlan.extent`):
+        what it returns per layer goes to `PrintPlan.drawings`. The layer SVGs' own
+        `slicelab.gcode.layer_svgs.layer_drawings` draws them there. Not called with supports.
+
+    Returns
+    -------
+    PrintPlan
+
+    Raises
+    ------
+    ValueError
+        When there is nothing to print (no facets, a flat part, or a part too thin for any line:
+        a plan of its skirt alone), or the part does not fit the printer (`check_bed`).
+
+    See Also
+    --------
+    slicelab.printing.steps.paths.layer_paths : one layer's toolpaths.
+    slicelab.gcode.writer.write_gcode, slicelab.gcode.layer_svgs.write_svgs : the plan written out.
+    slicelab.viz.layers.preview_png : a picture of some layers.
+
+    Examples
+    --------
+    >>> from slicelab.samples import box
+    >>> p = plan(box((0, 0, 0), (6, 6, 1)), PrintSettings(pixel_size=0.1), workers=1)
+    >>> len(p.layers), p.z.round(3).tolist()
+    (5, [0.2, 0.4, 0.6, 0.8, 1.0])
+    >>> set(p.layers[0].filling_kinds)   # bottom layers are solid
+    {'solid'}
+    """
+    s = settings or PrintSettings()
+    given = dict(workers=workers, progress=progress, layer_text=layer_text, layer_drawing=layer_drawing)
+    first = _plan(mesh, s, 0.0, **given)
+    # A part whose lowest layers hold no line (a scan touching the bed at a point, a part on an
+    # edge) would have its first extrusion laid in the air: lowered into the bed until its first
+    # layer prints, it loses only layers that print nothing.
+    k = next((k for k, lp in enumerate(first.layers) if any(x not in ("skirt", "brim") for x in lp.kind)), 0)
+    if k > 0:
+        return _plan(mesh, s, float(np.sum(first.heights[:k])), **given)
+    return first
+
+
+def _plan(mesh: Mesh, s: PrintSettings, sunk: float, *, workers, progress, layer_text, layer_drawing) -> PrintPlan:
+    """`plan`, the part lowered `sunk` mm into the bed."""
+    import time
+
+    from ..slicing.sections import slice_layers
+    t0 = time.perf_counter()
+    if len(mesh) == 0:
+        raise ValueError("the mesh has no facets: nothing to print")
+    lo, hi = mesh.bounds
+    check_bed(mesh, s)
+    lo = lo + np.array([0.0, 0.0, sunk])  # (the part lowered into the bed: below it, nothing prints)
+    bounds = layer_bounds(float(hi[2] - lo[2]), s.layer_height, s.first_layer_height)
+    if len(bounds) == 0:
+        raise ValueError("the part is flat: nothing to print")
+    # The modules the layers need load on a thread while the part is sliced (numpy lets go of
+    # the GIL): forked workers then inherit them instead of importing each.
+    # Loading them creates some 100,000 long-lived objects, and the garbage collector would walk
+    # them all a few times over (0.2 s): it pauses meanwhile.
+    import threading
+    collecting = gc.isenabled()
+    gc.disable()
+    try:
+        warm = threading.Thread(target=_warm_imports, daemon=True)
+        warm.start()
+        sections = slice_layers(mesh, heights=lo[2] + bounds.mean(axis=1))
+        warm.join()
+    finally:
+        if collecting:
+            gc.enable()
+    check_bed(mesh, s, first_layer=sections[0])
+    t1 = time.perf_counter()
+    n = len(sections)
+    workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))
+    z_tops = bounds[:, 1]
+
+    heights = bounds[:, 1] - bounds[:, 0]
+    offset = np.array([s.centre[0] - (lo[0] + hi[0]) / 2, s.centre[1] - (lo[1] + hi[1]) / 2, -lo[2]])
+    text = None if layer_text is None or s.support != "off" else partial(layer_text, settings=s, offset=offset)
+    drawing = None if s.support != "off" else layer_drawing
+    extent = footprint_extent(lo[:2], hi[:2], sections[0], s)
+    # Layers of a prism differ by the float32 rounding of the file's coordinates (walls lean by it).
+    from ..mesh.repairs import default_tolerance
+    tol = default_tolerance(mesh)
+
+    # Runs that start as an earlier one did (steady layers, the same outline): their first layers
+    # are made once, here, for all of them (`make_starts`).
+    from ._reuse import outline_size, run_starts, start_candidates
+    size = [outline_size(sec) for sec in sections]  # over layers: their areas and boundaries, once
+    reach = (s.bottom_layers + 1, s.top_layers)
+    repeating = s.infill_pattern != "gyroid" or s.infill_density == 0
+    maybe = set(start_candidates(dict(enumerate(sections)), n, reach, tol, _RUN, _START, size)) if repeating \
+        else set()
+    alike, made = {}, {}
+
+    def job(a, b, text=text, drawing=drawing):
+        """The arguments of run a..b-1: its layers, the neighbours its skins look at and the first
+        layers of its runs that start as an earlier one."""
+        lo, hi = max(0, a - s.bottom_layers - 1), min(n, b + s.top_layers)  # (the skins of a - 1 too)
+        starts = {k: made[alike[k]] for k in range(a, b) if k in alike and alike[k] in made}
+        return (a, b, n, {j: sections[j] for j in range(lo, hi)}, z_tops[a:b], s, text, heights[a:b], drawing,
+                extent, tol, starts)
+
+    def make_starts():
+        if maybe:
+            alike.update(run_starts(dict(enumerate(sections)), n, reach, tol, _RUN, _START, sorted(maybe)))
+        for k0 in sorted(set(alike.values())):  # over the outlines of the steady stretches, few
+            state = {}
+            rows = _run_chunk(*job(k0, k0 + _START, None, None), state=state)
+            made[k0] = RunStart(tuple(r[1:5] for r in rows), state["pos"], state["seam"], state["kept"],
+                                state["below_solid"])
+
+    def may_need_starts(chunk):
+        return any(k in maybe for k in range(chunk[0], chunk[1], _RUN))
+
+    results = []
+    # Fixed runs of layers, whatever the number of workers: a run carries the nozzle from
+    # one layer to the next (seams), so the same runs give the same G-code in series. Runs go
+    # to the workers a few at a time (each rasterises its neighbours once), in enough calls
+    # for the workers to share them evenly.
+    runs = -(-n // _RUN)
+    group = max(1, min(_GROUP, runs // (3 * workers))) if workers > 1 else _GROUP
+    chunks = [(a, min(n, a + group * _RUN)) for a in range(0, n, group * _RUN)]
+    if workers == 1 or len(chunks) == 1:
+        bar = _bar(n, progress)
+        make_starts()
+        for a, b in chunks:
+            results += _run_chunk(*job(a, b))
+            bar.update(b - a)
+        bar.close()
+    else:
+        from concurrent.futures import as_completed
+
+        from ._pool import forked_pool
+        from ._schedule import costliest_first
+        bar = _bar(n, progress)
+        order = costliest_first(chunks, sections, s, tol, size)
+        with forked_pool(workers) as pool:
+            # The runs that cannot start alike go first: the workers plan them while the others'
+            # first layers are made here.
+            futures = {pool.submit(_run_chunk, *job(a, b)): (a, b) for a, b in order if not may_need_starts((a, b))}
+            make_starts()
+            futures.update({pool.submit(_run_chunk, *job(a, b)): (a, b) for a, b in order if may_need_starts((a, b))})
+            for fut in as_completed(futures):
+                results += fut.result()
+                a, b = futures[fut]
+                bar.update(b - a)
+        bar.close()
+    results.sort(key=lambda r: r[0])
+    layers = [r[1] for r in results]
+    if not any(k not in ("skirt", "brim") for lp in layers for k in lp.kind):
+        size = " x ".join(f"{v:.3g}" for v in hi - lo)
+        raise ValueError(f"nothing to print: the part ({size} mm) is too thin for lines {s.line_width:g} mm "
+                         f"wide, or it is a surface without volume")
+    areas = np.array([r[2] for r in results]).reshape(-1, 4)
+    overhangs = np.array([r[3] for r in results], np.float64).reshape(-1, 6)
+    if s.support != "off":
+        layers = _with_supports(layers, sections, [r[4] for r in results], s)
+        # Support lines may reach a little past the footprint (drawn after planning: no layer is yet).
+        pts = [q for lp in layers for q in lp.paths if len(q)]
+        if pts:
+            pts = np.concatenate(pts)
+            extent = (*np.minimum(extent[:2], pts.min(axis=0)).tolist(), *np.maximum(extent[2:], pts.max(axis=0)).tolist())
+    texts = {r[0]: r[5] for r in results if r[5] is not None}
+    drawings = {r[0]: r[6] for r in results if r[6] is not None}
+    t2 = time.perf_counter()
+    return PrintPlan(s, layers, heights, offset, areas, float(np.sum(areas[:, 0] * heights)),
+                     {"slice": t1 - t0, "paths": t2 - t1}, overhangs, texts, extent, drawings, sunk)
+
+
+def _with_supports(layers: list, sections: list, unheld: list, s: PrintSettings) -> list:
+    """The layers with their support material printed after the skirt and before the islands."""
+    from .supports.columns import support_paths
+    # The settings give the gaps between lines, as PrusaSlicer does: a line width more apart.
+    rows = support_paths(sections, unheld, mode=s.support, line_width=s.line_width,
+                         spacing=s.support_spacing + s.line_width,
+                         interface_spacing=s.support_interface_spacing + s.line_width, xy_gap=s.support_xy_gap,
+                         z_gap_layers=s.support_z_gap_layers, interface_layers=s.support_interface_layers,
+                         sheath=s.support_sheath)
+    return [lp.inserted(sum(k in ("skirt", "brim") for k in lp.kind), [(k, q, lp.line_width) for k, q in extra])
+            for lp, extra in zip(layers, rows)]  # over layers
+
+
+def _warm_imports() -> None:
+    import cv2  # noqa: F401
+    import shapely  # noqa: F401
+
+    from ..geometry.kernels import warm
+    from .fill import lines, patterns  # noqa: F401
+    from .grid import distance, raster  # noqa: F401
+    from .steps import overhangs, paths, perimeters, simplify, skins, skirt  # noqa: F401
+    warm()  # the compiled kernels, loaded (or compiled, once) before the workers fork
+
+
+def _bar(total: int, progress: bool | None):
+    """A tqdm bar over the layers, or, when there is none to show, a stand-in that does nothing
+    (so a command whose output is not a terminal does not import tqdm)."""
+    disable = (not sys.stderr.isatty()) if progress is None else not progress
+    if disable:
+        return _NoBar()
+    from tqdm import tqdm
+    return tqdm(total=total, unit="layer", desc="planning", leave=False)
+
+
+class _NoBar:
+    def update(self, n: int = 1) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
