@@ -82,6 +82,14 @@ def defect_parts(k: int) -> list:
     return [(f"{f.parent.name}/{f.stem}", f, None, False) for f in files]
 
 
+def _moves(gcode: bytes) -> bytes:
+    """The file without the header's settings (``; name = value`` lines before the first layer): a
+    setting added to the settings table adds a line there and changes no move."""
+    head, sep, rest = gcode.partition(b";LAYER_CHANGE")
+    kept = [line for line in head.split(b"\n") if not (line.startswith(b"; ") and b" = " in line)]
+    return b"\n".join(kept) + sep + rest
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("rev", help="the revision to compare with (a commit, a tag, HEAD~3, ...)")
@@ -96,7 +104,7 @@ def main(argv=None) -> int:
     if args.defects:
         parts = defect_parts(args.defects)
     extra = ["--repair"] if args.defects else []
-    tally = {"same": 0, "refused alike": 0, "DIFFERS": 0, "SVGs differ": 0}
+    tally = {"same": 0, "same but settings added": 0, "refused alike": 0, "DIFFERS": 0, "SVGs differ": 0}
     work = Path(tempfile.mkdtemp(prefix="bench_rev_"))
     other = work / "tree"
     subprocess.run(["git", "worktree", "add", "--detach", str(other), args.rev], cwd=ROOT, check=True,
@@ -131,8 +139,8 @@ def main(argv=None) -> int:
             if any(refused.values()):
                 verdict = "refused alike" if refused["this tree"] == refused[args.rev] else "DIFFERS"
             else:
-                same = outs["this tree"].read_bytes() == outs[args.rev].read_bytes()
-                verdict = "same" if same else "DIFFERS"
+                a, b = (outs[name].read_bytes() for name in trees)
+                verdict = "same" if a == b else "same but settings added" if _moves(a) == _moves(b) else "DIFFERS"
                 if args.preview:  # every layer's SVG too (the PNG is a picture: not compared)
                     a, b = (sorted(shown[name].glob("*.svg")) for name in trees)
                     svgs = [f.name for f in a] == [f.name for f in b] and \

@@ -16,7 +16,8 @@ from slicelab.samples import box, cube_with_hole
 from slicelab.printing.config.bed import check_bed
 from slicelab.gcode.estimate import format_duration, move_times
 from slicelab.printing.steps.paths import layer_paths
-from slicelab.printing.fill.patterns import GYROID_LENGTH, PATTERNS, fill_pattern
+from slicelab.printing.fill import PATTERNS, fill_pattern
+from slicelab.printing.fill.gyroid import GYROID_LENGTH
 from slicelab.printing.planner import PrintSettings, layer_bounds, plan
 from slicelab.printing.roles import KINDS, STYLES
 from slicelab.printing.steps.simplify import simplify_paths, simplify_rings
@@ -179,7 +180,7 @@ def test_pattern_covers_its_region_at_its_density_and_stays_inside(name, density
 
 def test_patterns_through_the_plan(tmp_path):
     mesh = cube_with_hole(12.0, 3.0, 32)
-    for name in ("concentric", "gyroid"):
+    for name in ("concentric", "gyroid", "triangles"):
         s = PrintSettings(**FAST, infill_pattern=name)
         pp = plan(mesh, s, workers=1)
         write_gcode(pp, tmp_path / f"{name}.gcode")
@@ -190,7 +191,7 @@ def test_patterns_through_the_plan(tmp_path):
 
 
 def test_unknown_pattern_is_refused():
-    with pytest.raises(ValueError, match="^infill_pattern must be one of concentric, gyroid, rectilinear"):
+    with pytest.raises(ValueError, match="^infill_pattern must be one of concentric, gyroid, rectilinear, triangles"):
         PrintSettings(infill_pattern="honeycomb")
 
 
@@ -603,3 +604,24 @@ def test_travel_lifts_stay_under_the_printer_height(tmp_path, compiled):
     write_gcode(p, tmp_path / "b.gcode", workers=1, compiled=compiled)
     zs = [float(z) for z in re.findall(r"^G1 Z([\d.]+)", (tmp_path / "b.gcode").read_text(), flags=re.M)]
     assert max(zs) == pytest.approx(16.0) and p.z[-1] == pytest.approx(16.0)   # (16.2 before)
+
+
+def test_triangle_infill_lays_three_directions_meeting_in_a_grid():
+    # Three families 60 degrees apart, through one lattice: where two lines cross, a line of the
+    # third family passes too (the triangles' corners), and the pattern is the same on every layer.
+    sq = Polygon(np.array([[0, 0], [40, 0], [40, 40], [0, 40]], float) + 0.3, (), 0)
+    lines = fill_pattern("triangles", [sq], 2.0, 0.0, layer_index=0)
+    assert [q.tolist() for q in lines] == [q.tolist() for q in fill_pattern("triangles", [sq], 2.0, 0.0,
+                                                                             layer_index=1, z=7.0)]
+    seg = np.concatenate([np.stack([q[:-1], q[1:]], 1) for q in lines])
+    d = seg[:, 1] - seg[:, 0]
+    long = np.hypot(*d.T) > 10
+    assert all(len(q) == 2 for q in lines)   # straight lines, not linked along the boundary
+    angles = np.round(np.degrees(np.arctan2(d[long, 1], d[long, 0])) % 180, 6)
+    assert sorted(set(angles.tolist())) == [0.0, 60.0, 120.0]
+    # A family is lines k * 6 mm (3 spacings) from the origin, along its direction: a point on two
+    # families' lines is on the third's.
+    normals = {a: np.array([-np.sin(np.radians(a)), np.cos(np.radians(a))]) for a in (0.0, 60.0, 120.0)}
+    p = np.linalg.solve(np.stack([normals[0.0], normals[60.0]]), [6.0 * 2, 6.0 * 1])
+    offset = p @ normals[120.0] / 6.0
+    assert abs(offset - round(offset)) < 1e-9

@@ -380,3 +380,32 @@ def test_mid_air_counts_each_island_of_a_layer():
     assert layer_overhangs(layer.combined(), None, 0.2, islands=layer).mid_air == 3
     on_all = rasterize(section_of([rect(1, 1, 3, 3), rect(31, 1, 33, 3), rect(1, 41, 3, 43)]), 0.2).combined()
     assert layer_overhangs(layer.combined(), on_all, 0.2, islands=layer).mid_air == 0
+
+
+def test_grid_supports_hold_what_snug_ones_hold_and_keep_off_the_part():
+    # Two caps a little apart on two stems: "snug" supports follow each cap's underside; "grid"
+    # ones fill the 2 mm gap between them into one column (PrusaSlicer's grid style) and still hold
+    # every overhang (coverage) without entering the part or its XY gap (containment).
+    from slicelab.printing.supports import SUPPORTS
+    part = concat(box((4, 4, 0), (6, 6, 4)), box((0, 0, 4), (10, 10, 5)),
+                  box((16, 4, 0), (18, 6, 4)), box((12, 0, 4), (22, 10, 5)))
+    got = {}
+    for style in SUPPORTS:
+        s = PrintSettings(**S, support="auto", support_style=style, dont_support_bridges=False)
+        pp = plan(part, s, workers=1)
+        rows = _support_rows(pp)
+        # Points every 0.1 mm along the support lines of the two lowest layers.
+        pts = np.concatenate([a + (b - a) * t[:, None] for k in range(2) for _, q in rows[k]
+                              for a, b in zip(q[:-1], q[1:]) for t in [np.linspace(0, 1, 2 + int(np.hypot(*(b - a)) / 0.1))]])
+        for stem in ((4, 6), (16, 18)):  # containment: never within the XY gap of a stem (less a pixel)
+            dx = np.maximum(np.maximum(stem[0] - pts[:, 0], pts[:, 0] - stem[1]), 0)
+            dy = np.maximum(np.maximum(4 - pts[:, 1], pts[:, 1] - 6), 0)
+            # (the XY gap, less a support pixel where a loop cuts the gap's rounded corner)
+            assert np.hypot(dx, dy).min() >= s.support_xy_gap - 0.25, style
+        # coverage: support lines under both caps, up to their outlines (a support pixel)
+        assert pts[:, 0].min() < 0.5 and pts[:, 0].max() > 21.5 and pts[:, 1].min() < 0.5 and pts[:, 1].max() > 9.5
+        assert pts.min() >= -0.21 and pts[:, 0].max() <= 22.21 and pts[:, 1].max() <= 10.21  # under the caps
+        between = (pts[:, 0] > 10.5) & (pts[:, 0] < 11.5)  # the gap between the caps
+        got[style] = bool(between.any())
+        assert pp.warnings() == [], style
+    assert got == {"snug": False, "grid": True}

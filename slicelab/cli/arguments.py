@@ -15,18 +15,39 @@ import numpy as np
 from ..tasks.jobs import JOBS
 from ..tasks.spec import ParameterError
 
-__all__ = ["GIVEN", "FLAGS", "command", "finish", "UsageError", "vector", "point", "positive", "density", "volume", "pair", "default",
+__all__ = ["GIVEN", "FLAGS", "command", "finish", "UsageError", "LazyChoices", "vector", "point", "number", "whole_number", "positive", "density", "volume", "pair", "default",
            "options", "add_plane_arguments", "plane", "max_gap", "no_preview", "repair_flag",
            "negative_values", "warn", "say_repair", "timings", "flag_message", "say_plates"]
 
 #: The default of a job option: absent unless given.
 GIVEN = argparse.SUPPRESS
 #: Parameters whose flag is not simply --name-with-dashes.
-FLAGS = {"n_perimeters": "--perimeters", "plane": "a plane (--z, or --origin and --normal)"}
+FLAGS = {"n_perimeters": "--perimeters", "bed_center": "--center", "plane": "a plane (--z, or --origin and --normal)"}
 
 
 class UsageError(ValueError):
     """A command-line argument that makes no sense (exit status 2)."""
+
+
+class LazyChoices:
+    """argparse ``choices`` read from a registry only when a value is checked or help is shown (so
+    that building the parser, as every command does, loads no registry).
+
+    Examples
+    --------
+    >>> c = LazyChoices(lambda: ("a", "b"))
+    >>> "a" in c, list(c)
+    (True, ['a', 'b'])
+    """
+
+    def __init__(self, choices):
+        self._get = choices if callable(choices) else (lambda: tuple(choices))
+
+    def __contains__(self, value) -> bool:
+        return value in self._get()
+
+    def __iter__(self):
+        return iter(self._get())
 
 
 def _numbers(text: str, seps: str, count: int, unreadable: str, wrong: str, positive: bool = False) -> tuple:
@@ -51,6 +72,34 @@ def vector(text: str) -> np.ndarray:
 def point(text: str) -> tuple:
     """A point X,Y in mm."""
     return _numbers(text, ",", 2, "X,Y in mm like 125,105", "two finite numbers X,Y like 125,105")
+
+
+def number(text: str) -> float:
+    """A number (its range is the setting's, checked with the others).
+
+    Examples
+    --------
+    >>> number("0.25")
+    0.25
+    """
+    try:
+        return float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+
+
+def whole_number(text: str) -> int:
+    """A whole number (its range is the setting's, checked with the others).
+
+    Examples
+    --------
+    >>> whole_number("3")
+    3
+    """
+    try:
+        return int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a whole number, got {text!r}") from None
 
 
 def positive(text: str) -> float:

@@ -8,7 +8,8 @@ from pathlib import Path
 from ..tasks.jobs import run_job
 from .arguments import (
     command,
-    GIVEN, UsageError, add_plane_arguments, density, no_preview, options, pair, plane, point, positive,
+    GIVEN, LazyChoices, UsageError, add_plane_arguments, density, no_preview, number, options, pair, plane, point,
+    whole_number,
     repair_flag, say_plates, say_repair, timings, volume, warn,
 )
 
@@ -130,6 +131,46 @@ def _run_arrange(args) -> int:
     return 0
 
 
+#: A setting's flag where it is not ``--name-with-dashes``.
+FLAG_NAMES = {"n_perimeters": "--perimeters", "bed_center": "--center"}
+#: How the command line reads settings that are not plain numbers or words.
+_PARSERS = {"infill_density": density, "bed_center": point}
+_NOTES = {"infill_density": ": 20 or 20% is a percentage, a bare number up to 1 a fraction (0.2)"}
+_METAVARS = {"mm": "MM", "mm/s": "MM/S", "mm/s2": "MM/S2", "C": "C", "degrees": "DEG", "layers": "N", "s": "S",
+             "%": "PCT"}
+
+
+def _setting_flags(p) -> None:
+    """A flag for every print setting, group by group, from its declaration
+    (`slicelab.printing.config.fields.setting`): its help, unit and choices; booleans as
+    ``--name`` / ``--no-name``; the default said in the help when help is shown."""
+    from dataclasses import fields
+
+    from ..printing.config.settings import GROUPS
+    for group, cls in GROUPS.items():
+        g = p.add_argument_group(f"{group} settings ([{group}] in a settings file)")
+        for f in fields(cls):  # over the group's settings
+            m = f.metadata
+            flag = FLAG_NAMES.get(f.name, "--" + f.name.replace("_", "-"))
+            kw = {"dest": f.name, "default": GIVEN}
+            unit = f" ({m['unit']})" if m["unit"] and m["unit"] not in ("layers",) else ""
+            if f.name in _PARSERS:
+                kw.update(type=_PARSERS[f.name], metavar="X,Y" if m["size"] else "D")
+            elif m["kind"] is bool:
+                kw["action"] = argparse.BooleanOptionalAction
+            elif m["choices"] is not None:
+                kw["choices"] = LazyChoices(m["choices"])
+            elif m["size"]:
+                kw.update(type=str, metavar="AxB")
+            else:
+                kw["type"] = {int: whole_number, float: number, str: str}[m["kind"]]
+                kw["metavar"] = _METAVARS.get(m["unit"], "N" if m["kind"] is int else "TEXT" if m["kind"] is str
+                                              else "X")
+            text = (m["help"] + unit + _NOTES.get(f.name, "")).replace("%", "%%")
+            action = g.add_argument(flag, help=f"{text}; default %(setting_default)s", **kw)
+            action.setting_default = _Default(f.name)
+
+
 class _Default:
     """A print setting's default, said in its flag's help (``%(setting_default)s``): read from
     `slicelab.printing.PrintSettings` (the prusa-mk3 profile's values) only when help is shown,
@@ -140,7 +181,12 @@ class _Default:
 
     def __str__(self) -> str:
         from ..printing.config.settings import PrintSettings
-        value = getattr(PrintSettings(), self.name)
+        value = getattr(PrintSettings(), self.name)  # (derived where the group leaves it out: pixel_size)
+        if value is None:
+            return "the flavour's" if self.name in ("start_gcode", "end_gcode") else \
+                "the bed's middle" if self.name == "bed_center" else "the infill's, turned every layer"
+        if isinstance(value, bool):
+            return "on" if value else "off"
         if isinstance(value, tuple):
             return "x".join(f"{v:g}" for v in value)
         return value if isinstance(value, str) else f"{value:g}"
@@ -152,61 +198,7 @@ def _add_slice(sub) -> None:
                    help="the part; several are put side by side on the bed, upright as given, and print together")
     p.add_argument("-o", "--output", type=Path, metavar="OUT.gcode", help="the G-code file (required unless "
                                                                           "--print-config)")
-    p.add_argument("--layer-height", type=positive, default=GIVEN, metavar="H", help="(default 0.2 mm)")
-    p.add_argument("--first-layer-height", type=positive, default=GIVEN, metavar="H",
-                   help="default: the layer height")
-    p.add_argument("--perimeters", dest="n_perimeters", type=int, default=GIVEN, metavar="N",
-                   help="perimeters around every island (default 2)")
-    p.add_argument("--infill-density", type=density, default=GIVEN, metavar="D",
-                   help="sparse infill density: 20 or 20%% is a percentage, a bare number up to 1 a "
-                        "fraction (0.2); default 20%%")
-    pattern = p.add_argument("--infill-pattern", choices=("rectilinear", "concentric", "gyroid"), default=GIVEN,
-                             help="sparse infill pattern (default %(setting_default)s)")
-    pattern.setting_default = _Default("infill_pattern")
-    for flag, kind, meta, what in (
-            ("--line-width", positive, "W", "extrusion width of every line, mm"),
-            ("--infill-angle", float, "DEG", "direction of the infill lines, turned 90 degrees every layer"),
-            ("--top-layers", int, "N", "solid layers under every top surface"),
-            ("--bottom-layers", int, "N", "solid layers over every bottom surface"),
-            ("--pixel-size", positive, "MM", "pixel grid of the layers (skins, gaps, overhangs; the perimeters "
-                                            "lie on the exact offsets whatever its size)"),
-            ("--gcode-resolution", float, "MM", "every path simplified to this tolerance"),
-            ("--nozzle-temperature", float, "C", "degrees Celsius"),
-            ("--bed-temperature", float, "C", "degrees Celsius"),
-            ("--fan-speed", float, "PCT", "part-cooling fan, percent, after the first layers"),
-            ("--fan-off-layers", int, "N", "first layers printed with the fan off"),
-            ("--skirt-loops", int, "N", "loops around the first layer; 0: no skirt"),
-            ("--skirt-distance", float, "MM", "gap between the skirt and the part"),
-            ("--brim-width", float, "MM", "brim around the first layer; 0: none"),
-            ("--bed-size", str, "XxY", "the bed, mm; a part that does not fit is refused"),
-            ("--max-height", float, "MM", "the printer's build height; a taller part is refused"),
-            ("--acceleration", float, "MM/S2", "for the print-time estimate"),
-            ("--jerk", float, "MM/S", "for the print-time estimate"),
-            ("--overhang-threshold", float, "DEG", "steepest wall, from the vertical, that holds itself"),
-            ("--bridge-speed", positive, "MM/S", "speed of bridge lines"),
-            ("--bridge-flow-ratio", positive, "R", "flow of bridge lines, against other lines'"),
-            ("--min-layer-time", float, "S", "a quicker layer is slowed to last this long"),
-            ("--fan-below-layer-time", float, "S", "a layer quicker than this gets more fan"),
-            ("--min-print-speed", positive, "MM/S", "the slowest a layer is slowed to"),
-            ("--nozzle-diameter", positive, "MM", "the nozzle's bore")):
-        action = p.add_argument(flag, type=kind, default=GIVEN, metavar=meta,
-                                help=f"{what} (default %(setting_default)s)")
-        action.setting_default = _Default(flag[2:].replace("-", "_"))
-    p.add_argument("--center", dest="bed_center", type=point, default=GIVEN, metavar="X,Y",
-                   help="where the part's footprint is centred on the bed (default: the bed's middle)")
-    p.add_argument("--support", choices=("off", "auto", "bed"), default=GIVEN,
-                   help="support material under overhangs and mid-air islands: off (default; they are "
-                        "reported), auto (standing on the bed or the part), bed (only where they reach the bed)")
-    p.add_argument("--dont-support-bridges", action=argparse.BooleanOptionalAction, default=GIVEN,
-                   help="bridge what the layer below holds on one side only, supporting only a band along its "
-                        "outline, as PrusaSlicer does (default); --no-dont-support-bridges supports it whole")
-    p.add_argument("--support-sheath", action=argparse.BooleanOptionalAction, default=GIVEN,
-                   help="a loop around each region of sparse support (default), as PrusaSlicer does")
-    p.add_argument("--seam-position", choices=("aligned", "rear", "nearest"), default=GIVEN,
-                   help="where perimeter loops start: aligned with the layer below (default), at the rear, or "
-                        "nearest the nozzle")
-    p.add_argument("--external-perimeters-first", action="store_const", const=True, default=GIVEN,
-                   help="print each island's outer perimeter before the inner ones (default: last)")
+    _setting_flags(p)
     g = p.add_argument_group("printer and settings files")
     g.add_argument("--printer", default=GIVEN, metavar="NAME",
                    help="a bundled printer profile: prusa-mk3 (default values), generic-marlin-220, "

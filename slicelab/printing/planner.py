@@ -29,6 +29,7 @@ import numpy as np
 
 from ..mesh.core import Mesh
 from .config.bed import check_bed, footprint_extent
+from .fill import PATTERNS
 from ._reuse import RunStart
 from .config.settings import PrintSettings
 
@@ -227,9 +228,9 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     from .steps.simplify import simplify_paths
     from .steps.skirt import skirt_loops, with_skirt
     sections = window
-    # Layers whose toolpaths the layer two above may take (gyroid infill changes with height).
+    # Layers whose toolpaths the layer two above may take (not when the infill changes with height).
     repeats = Repeats(sections, n, (s.bottom_layers + 1, s.top_layers), repeat_tolerance,
-                      enabled=s.infill_pattern != "gyroid" or s.infill_density == 0)
+                      enabled=not PATTERNS[s.infill_pattern].varies_with_z or s.infill_density == 0)
     band = perimeter_band(s.line_width, s.n_perimeters, s.infill_overlap, s.pixel_size)
     edge_band = s.n_perimeters * s.line_width + EDGE_MARGIN if s.dont_support_bridges else None
     rasters, masks = {}, {}
@@ -475,7 +476,7 @@ def _plan(mesh: Mesh, s: PrintSettings, sunk: float, *, workers, progress, layer
     from ._reuse import outline_size, run_starts, start_candidates
     size = [outline_size(sec) for sec in sections]  # over layers: their areas and boundaries, once
     reach = (s.bottom_layers + 1, s.top_layers)
-    repeating = s.infill_pattern != "gyroid" or s.infill_density == 0
+    repeating = not PATTERNS[s.infill_pattern].varies_with_z or s.infill_density == 0
     maybe = set(start_candidates(dict(enumerate(sections)), n, reach, tol, _RUN, _START, size)) if repeating \
         else set()
     alike, made = {}, {}
@@ -557,13 +558,8 @@ def _plan(mesh: Mesh, s: PrintSettings, sunk: float, *, workers, progress, layer
 
 def _with_supports(layers: list, sections: list, unheld: list, s: PrintSettings) -> list:
     """The layers with their support material printed after the skirt and before the islands."""
-    from .supports.columns import support_paths
-    # The settings give the gaps between lines, as PrusaSlicer does: a line width more apart.
-    rows = support_paths(sections, unheld, mode=s.support, line_width=s.line_width,
-                         spacing=s.support_spacing + s.line_width,
-                         interface_spacing=s.support_interface_spacing + s.line_width, xy_gap=s.support_xy_gap,
-                         z_gap_layers=s.support_z_gap_layers, interface_layers=s.support_interface_layers,
-                         sheath=s.support_sheath)
+    from .supports import support_lines
+    rows = support_lines(sections, unheld, s)
     return [lp.inserted(sum(k in ("skirt", "brim") for k in lp.kind), [(k, q, lp.line_width) for k, q in extra])
             for lp, extra in zip(layers, rows)]  # over layers
 
@@ -573,7 +569,7 @@ def _warm_imports() -> None:
     import shapely  # noqa: F401
 
     from ..geometry.kernels import warm
-    from .fill import lines, patterns  # noqa: F401
+    from .fill import lines  # noqa: F401  (the patterns load with the registry)
     from .grid import distance, raster  # noqa: F401
     from .steps import overhangs, paths, perimeters, simplify, skins, skirt  # noqa: F401
     warm()  # the compiled kernels, loaded (or compiled, once) before the workers fork

@@ -246,8 +246,10 @@ def _slice_parameters(printer=None, config=None, workers=None, preview: bool = F
     density = given.get("infill_density")
     if density is not None and not 0 <= number("infill_density", density) <= 1:
         raise ParameterError("infill_density", f"must be a fraction from 0 to 1 (0 % to 100 %), got {density!r}")
-    if isinstance(given.get("bed_size"), str):
-        given["bed_size"] = tuple(_size("bed_size", given["bed_size"]))
+    from ..printing.config.settings import sized_settings
+    for name in sized_settings():  # pairs given as "250x210" or "0.6,2.5"
+        if isinstance(given.get(name), str):
+            given[name] = tuple(_size(name, given[name]))
     try:
         resolved = resolve_settings(printer=printer, config=config, **given)
         if "first_layer_height" not in resolved and "layer_height" in resolved:

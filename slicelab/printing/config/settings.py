@@ -24,12 +24,22 @@ from dataclasses import asdict, dataclass, fields
 from .fields import check_fields, check_template, setting
 
 __all__ = ["Extrusion", "Walls", "Infill", "Skins", "Supports", "Motion", "Cooling", "Adhesion", "Machine", "Raster", "GROUPS",
-           "PrintSettings", "settings_dict", "setting_names", "template_names"]
+           "PrintSettings", "settings_dict", "setting_names", "template_names", "sized_settings"]
 
 
 def _patterns() -> tuple:
-    from ..fill.patterns import PATTERNS
+    from ..fill import PATTERNS
     return tuple(sorted(PATTERNS))
+
+
+def _placements() -> tuple:
+    from ..supports.columns import PLACEMENTS
+    return PLACEMENTS
+
+
+def _support_styles() -> tuple:
+    from ..supports import SUPPORTS
+    return tuple(SUPPORTS)
 
 
 def _flavors() -> tuple:
@@ -75,7 +85,7 @@ class Walls(_Group):
 @dataclass(frozen=True)
 class Infill(_Group):
     """Sparse filling: density (a fraction), angle (degrees), a pattern of
-    `slicelab.printing.fill.patterns.PATTERNS`, and its overlap with the perimeters (line widths)."""
+    `slicelab.printing.fill.PATTERNS`, and its overlap with the perimeters (line widths)."""
 
     infill_density: float = setting(0.2, "sparse infill density, a fraction", "", 0.0, 1.0)
     infill_angle: float = setting(45.0, "direction of the infill lines, turned 90 degrees every layer",
@@ -102,9 +112,9 @@ class Skins(_Group):
 
 @dataclass(frozen=True)
 class Supports(_Group):
-    """Support material (`slicelab.printing.supports.columns`): `support` is ``"off"``, ``"auto"``
+    """Support material (`slicelab.printing.supports`): `support` is ``"off"``, ``"auto"``
     (under every unheld overhang, standing on the bed or the part) or ``"bed"`` (only where a
-    column reaches the bed); sparse lines with a gap of `support_spacing` between them (so a
+    column reaches the bed), in a style of `slicelab.printing.supports.SUPPORTS`; sparse lines with a gap of `support_spacing` between them (so a
     line width more from centre to centre, as PrusaSlicer counts it), and
     `support_interface_layers` denser layers on top (gap `support_interface_spacing`); a gap
     of `support_xy_gap` (mm) to the part beside it and `support_z_gap_layers` layers under it.
@@ -115,8 +125,10 @@ class Supports(_Group):
     way. `support_sheath` (PrusaSlicer's default too) puts a loop around each region of sparse
     support, so that a narrow band stands."""
 
-    support: str = setting("off", "support material under overhangs and mid-air islands",
-                           choices=("off", "auto", "bed"))
+    support: str = setting("off", "support material under overhangs and mid-air islands: off (they are "
+                                  "reported), auto (standing on the bed or the part), bed (only where they "
+                                  "reach the bed)", choices=_placements)
+    support_style: str = setting("snug", "the shape of the support regions", choices=_support_styles)
     support_spacing: float = setting(2.5, "gap between sparse support lines", "mm", 0.0, 50.0, above=True)
     support_interface_spacing: float = setting(0.2, "gap between interface lines", "mm", 0.0, 50.0, above=True)
     support_interface_layers: int = setting(2, "dense layers on top of the support", "layers", 0, 20)
@@ -358,6 +370,17 @@ class PrintSettings:
     def filament_area(self) -> float:
         """Cross-section of the filament (mm^2)."""
         return math.pi * (self.filament_diameter / 2) ** 2
+
+
+def sized_settings() -> tuple:
+    """The settings that are pairs of numbers (``bed_size``, ...).
+
+    Examples
+    --------
+    >>> sized_settings()
+    ('bed_size', 'bed_center', 'line_width_ratio')
+    """
+    return tuple(f.name for cls in GROUPS.values() for f in fields(cls) if f.metadata["size"])
 
 
 def template_names() -> frozenset:

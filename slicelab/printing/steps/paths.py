@@ -3,7 +3,7 @@
 `layer_paths` turns a section into ``external_contour_segments`` (one
 closed polyline per island's outer boundary), ``internal_contour_segments``
 (hole boundaries and inner perimeters) and ``filling_segments`` (an infill
-pattern of `slicelab.printing.fill.patterns`, rectilinear zigzags by default),
+pattern of `slicelab.printing.fill.PATTERNS`, rectilinear zigzags by default),
 plus gap fill along the medial axis of what perimeters miss. Islands are
 printed nearest first: the outer perimeter, then the inner ones level by
 level, gap fill, then filling (the outside of the part first, then its
@@ -30,7 +30,7 @@ from ...geometry.polygons import Polygon, points_in_ring, signed_area
 from ...geometry.spatial import SegmentIndex
 from ..fill.lines import line_spacing, rectilinear
 from ..grid.masks import reach_disc
-from ..fill.patterns import fill_pattern
+from ..fill import fill_pattern
 from .perimeters import Perimeters, layer_perimeters, level_polygons, medial_fill, perimeter_band, split_by_mask
 from ..grid.raster import GridMask, LayerRaster, draw_polylines, raster_blocks, rasterize
 from ..roles import ISLAND_ROLES
@@ -116,7 +116,7 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
     tolerance : float, optional
         The perimeter stage's contour simplification (mm), default a tenth of a pixel.
     pattern : str, default "rectilinear"
-        Sparse filling pattern, a name of `slicelab.printing.fill.patterns.PATTERNS`;
+        Sparse filling pattern, a name of `slicelab.printing.fill.PATTERNS`;
         solid filling is rectilinear.
     resolution : float, default 0.0125
         Every path is simplified to this tolerance (mm; 0 keeps every vertex).
@@ -138,7 +138,7 @@ def layer_paths(section, line_width: float = 0.4, n_perimeters: int = 2, infill_
     --------
     slicelab.printing.steps.perimeters.layer_perimeters : the perimeters, filling regions and gap fill.
     slicelab.printing.fill.lines.rectilinear : the zigzag filling.
-    slicelab.printing.fill.patterns.fill_pattern : the sparse filling's patterns.
+    slicelab.printing.fill.fill_pattern : the sparse filling's patterns.
     slicelab.printing.steps.simplify.simplify_paths : the paths' simplification.
     coverage_map : how the paths cover the layer.
 

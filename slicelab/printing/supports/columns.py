@@ -1,4 +1,5 @@
-"""Support material: columns under what hangs in the air, sparse lines with a denser top.
+"""Support material: columns under what hangs in the air, sparse lines with a denser top (the
+machinery every support style of `slicelab.printing.supports.SUPPORTS` shares).
 
 Each layer's unheld overhang (`slicelab.printing.steps.overhangs`: material over
 nothing beyond the overhang threshold and held by no bridge) is projected
@@ -44,16 +45,17 @@ from ..grid.masks import GridMask
 from ..steps.perimeters import level_polygons, mask_rings
 from ..grid.raster import draw_polylines, winding_numbers
 
-__all__ = ["PIXEL", "SUPPORTS", "support_masks", "support_paths"]
+__all__ = ["PIXEL", "PLACEMENTS", "support_masks", "support_paths"]
 
 #: Pixel size (mm) of the supports' grid.
 PIXEL = 0.2
-#: Support modes: none, where needed (on the bed or the part), only where they reach the bed.
-SUPPORTS = ("off", "auto", "bed")
+#: Where supports stand (`PrintSettings.support`): none, where needed (on the bed or the part), only
+#: where they reach the bed.
+PLACEMENTS = ("off", "auto", "bed")
 
 
 def support_masks(sections, unheld, *, mode: str = "auto", xy_gap: float = 0.6, z_gap_layers: int = 1,
-                  interface_layers: int = 2, pixel: float = PIXEL):
+                  interface_layers: int = 2, pixel: float = PIXEL, close: float = 0.0):
     """Where each layer's supports go, on one grid.
 
     Parameters
@@ -72,6 +74,10 @@ def support_masks(sections, unheld, *, mode: str = "auto", xy_gap: float = 0.6, 
     interface_layers : int, default 2
         Layers of dense interface at the top of each column.
     pixel : float, default `PIXEL`
+    close : float, default 0
+        Gaps and notches narrower than this (mm) between a layer's support regions are filled
+        (a morphological closing by a square of that side): fewer, blockier columns, as
+        PrusaSlicer's "grid" style; 0 follows what hangs exactly ("snug").
 
     Returns
     -------
@@ -126,6 +132,8 @@ def support_masks(sections, unheld, *, mode: str = "auto", xy_gap: float = 0.6, 
     r = max(1, int(round(xy_gap / pixel)))
     gap = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * r + 1, 2 * r + 1))
     thin = cv2.getStructuringElement(cv2.MORPH_RECT, (3, 3))
+    c = int(round(close / pixel))
+    closing = cv2.getStructuringElement(cv2.MORPH_RECT, (2 * c + 1, 2 * c + 1)) if c > 0 else None
     # Bottom up, for "bed": where the part lies at or under each layer (a column there is dropped).
     blocked = None
     if mode == "bed":
@@ -147,7 +155,12 @@ def support_masks(sections, unheld, *, mode: str = "auto", xy_gap: float = 0.6, 
         carry &= ~m  # a column that meets the part stands on it
         if blocked is not None:
             carry &= ~np.unpackbits(blocked[j], count=carry.size).reshape(shape).astype(bool)
-        sup = carry & ~cv2.dilate(m.astype(np.uint8), gap).astype(bool)
+        region = carry
+        if closing is not None:  # (on a frame of empty pixels: the grid's edge closes nothing)
+            framed = cv2.copyMakeBorder(carry.astype(np.uint8), c + 1, c + 1, c + 1, c + 1, cv2.BORDER_CONSTANT,
+                                        value=0)
+            region = cv2.morphologyEx(framed, cv2.MORPH_CLOSE, closing)[c + 1:-c - 1, c + 1:-c - 1].astype(bool)
+        sup = region & ~cv2.dilate(m.astype(np.uint8), gap).astype(bool)
         # What is narrower than about a line (three pixels) cannot be printed, and holds nothing.
         sup = cv2.morphologyEx(sup.astype(np.uint8), cv2.MORPH_OPEN, thin).astype(bool)
         if not sup.any():
@@ -169,13 +182,13 @@ def _polygons(mask: np.ndarray, row0: int, col0: int, pixel: float, min_area: fl
 def support_paths(sections, unheld, *, mode: str = "auto", line_width: float = 0.4, spacing: float = 2.5,
                   interface_spacing: float = 0.6, xy_gap: float = 0.6, z_gap_layers: int = 1,
                   interface_layers: int = 2, angle: float = 0.0, sheath: bool = True,
-                  pixel: float = PIXEL) -> list[list]:
+                  pixel: float = PIXEL, close: float = 0.0) -> list[list]:
     """The supports' toolpath rows of every layer: ``(kind, polyline)``, kind ``"support"`` or
     ``"support_interface"``.
 
     Parameters
     ----------
-    sections, unheld, mode, xy_gap, z_gap_layers, interface_layers, pixel
+    sections, unheld, mode, xy_gap, z_gap_layers, interface_layers, pixel, close
         As for `support_masks`.
     line_width : float
     spacing, interface_spacing : float
@@ -197,7 +210,7 @@ def support_paths(sections, unheld, *, mode: str = "auto", line_width: float = 0
     """
     support, interface, (row0, col0) = support_masks(sections, unheld, mode=mode, xy_gap=xy_gap,
                                                      z_gap_layers=z_gap_layers, interface_layers=interface_layers,
-                                                     pixel=pixel)
+                                                     pixel=pixel, close=close)
     out = []
     min_area = 4 * line_width ** 2
     made = {}  # parity -> (masks, rows) of the last layer with supports: a column repeats them
