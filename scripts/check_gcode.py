@@ -13,7 +13,8 @@ its offending line numbers (1-based), worst first:
 - ``z_order``: the z of extruding moves never goes down (travels may hop up and back).
 - ``first_layer``: the first layer extrudes at the part's bottom + ``first_layer_height``.
 - ``inside_part``: every extrusion but skirt, brim and support (by ``;TYPE:``) lies in its layer's
-  section, cut at mid-layer, widened by half its width (``;WIDTH:`` or ``line_width``) + tolerance.
+  section, cut at mid-layer (a tenth of a micrometre below and above it: a middle in a horizontal
+  face counts either side), widened by half its width (``;WIDTH:`` or ``line_width``) + tolerance.
 - ``on_bed``: every move ends on the bed and between 0 and the maximum height.
 - ``retraction``: a travel (the moves between two extrusions) longer than the threshold is made
   retracted (E < 0 or G10 since the last extrusion), and the filament is pushed back before the next
@@ -53,6 +54,8 @@ import numpy as np
 
 __all__ = ["CHECKS", "Check", "Report", "GcodeInputError", "check_gcode", "main"]
 
+#: How far below and above the middle of a layer the checker cuts the part (mm): both sections count.
+DEGENERATE = 1e-4
 CHECKS = ("syntax", "heaters", "z_order", "first_layer", "inside_part", "on_bed", "retraction")
 KNOWN = ({f"G{k}" for k in (0, 1, 2, 3, 4, 10, 11, 17, 18, 19, 20, 21, 28, 29, 80, 90, 91, 92)}
          | {f"M{k}" for k in (0, 1, 17, 18, 31, 73, 75, 76, 77, 82, 83, 84, 104, 105, 106, 107, 109, 114, 140,
@@ -327,12 +330,18 @@ def _inside(g, ext, layers, s, mesh, tol, worst) -> Check:
         return Check("inside_part", "skip", detail="line width unknown (no ;WIDTH: nor line_width)")
     sel = sel[np.argsort(ids[sel], kind="stable")]
     used = np.unique(ids[sel])
-    sections = slicelab.slice_layers(mesh, heights=top[used] - height[used] / 2 - off[2]) if len(used) else []
+    # The section a hair (DEGENERATE mm) below and above the middle of each layer: a middle that lies
+    # in a horizontal face (a bridge's underside) is cut by both slicer and checker a float's rounding
+    # off, and either side of the face is the part's section there.
+    mid = top[used] - height[used] / 2 - off[2]
+    below, above = ((slicelab.slice_layers(mesh, heights=mid + d) if len(used) else []) for d in
+                    (-DEGENERATE, DEGENERATE))
     bad, far, reach, regions = [], [], [], {}
-    for sec, idx in zip(sections, np.split(sel, np.flatnonzero(np.diff(ids[sel])) + 1)):  # over layers
+    for lo_sec, hi_sec, idx in zip(below, above, np.split(sel, np.flatnonzero(np.diff(ids[sel])) + 1)):
         region = shapely.union_all([shapely.make_valid(shapely.Polygon(p.exterior, [h for h in p.holes
                                                                                      if len(h) > 2]))
-                                    for p in sec.polygons if len(p.exterior) > 2])  # overlapping shells: union
+                                    for sec in (lo_sec, hi_sec) for p in sec.polygons
+                                    if len(p.exterior) > 2])  # overlapping shells: union
         lines = shapely.linestrings(np.stack([g["start"][idx, :2], g["end"][idx, :2]], axis=1) - off[:2])
         wide = shapely.buffer(region, float(width[idx].min()) / 2 + tol, quad_segs=16)
         shapely.prepare(wide)

@@ -307,3 +307,19 @@ def test_command_exit_status_and_independence(sliced, tmp_path):
             assert len(r.stderr.splitlines()) == 1 and r.stderr.startswith("check_gcode: "), r.stderr
         else:
             assert "FAIL heaters" in r.stdout and "M104 S0" not in r.stderr
+
+
+def test_a_layer_middle_in_a_horizontal_face_counts_either_side(tmp_path, monkeypatch):
+    # A deck on two pillars whose underside is the middle of a layer (z = 2.5 mm: layers of 0.2 mm
+    # from 0): slicer and checker cut it a float's rounding apart, one above the face, one below.
+    # The checker counts the section on either side, as both are the part's there.
+    import slicelab
+    from slicelab.samples import box, concat
+    part = concat(box((0, 0, 0), (5, 10, 2.5)), box((20, 0, 0), (25, 10, 2.5)), box((0, 0, 2.5), (25, 10, 4)))
+    slicelab.save(part, tmp_path / "deck.stl")
+    r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(tmp_path / "deck.stl"), "-o",
+                        str(tmp_path / "deck.gcode")], cwd=ROOT, capture_output=True, text=True)
+    assert r.returncode == 0, r.stderr
+    assert cg.check_gcode(tmp_path / "deck.gcode", tmp_path / "deck.stl").passed
+    monkeypatch.setattr(cg, "DEGENERATE", 0.0)   # one section, cut exactly at the face: a side lost
+    assert _failing(cg.check_gcode(tmp_path / "deck.gcode", tmp_path / "deck.stl")) == {"inside_part"}
