@@ -54,7 +54,7 @@ def child(path: str, z: float, p: float, repeat: int) -> dict:
     import slicelab
     mesh = slicelab.load(path)
     s = slicelab.section(mesh, (0, 0, z), (0, 0, 1))
-    slicelab.layer_paths(s, pixel_size=0.1)  # warm imports
+    slicelab.layer_paths(s, slicelab.PrintSettings(pixel_size=0.1))  # warm imports
     before = _rss_kb()
     times = []
     for _ in range(repeat):
@@ -62,7 +62,7 @@ def child(path: str, z: float, p: float, repeat: int) -> dict:
         lp = slicelab.layer_paths(s, 0.4, 2, 0.2, pixel_size=p)
         times.append(time.perf_counter() - t0)
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before
-    per = lp.perimeters
+    per = slicelab.printing.pipeline.plan_layer(s, slicelab.PrintSettings(pixel_size=p)).walls
     shape = s.to_shapely()
     hd, area = [], []
     for k, level in enumerate(per.levels):
@@ -93,10 +93,10 @@ def ring_table(repeat: int) -> None:
     """Time and pixels held per layer for rings of growing radius, and the fitted exponent."""
     import numpy as np
     import slicelab
-    p = slicelab.PrintSettings().pixel_size
+    p = slicelab.slicelab.PrintSettings().pixel_size
     print(f"\nring of {WALL:g} mm wall, layer_paths at {p:g} mm pixels (median of {repeat} runs)")
     print(f"{'radius mm':>10}{'time ms':>10}{'x prev':>8}{'px held':>11}{'x prev':>8}{'box px':>12}")
-    slicelab.layer_paths(ring_section(RADII[0]), pixel_size=p)  # warm imports
+    slicelab.layer_paths(ring_section(RADII[0]), slicelab.PrintSettings(pixel_size=p))  # warm imports
     times, held = [], []
 
     def ratio(xs):
@@ -109,7 +109,7 @@ def ring_table(repeat: int) -> None:
             t0 = time.perf_counter()
             lp = slicelab.layer_paths(s, 0.4, 2, 0.2, pixel_size=p)
             runs.append(time.perf_counter() - t0)
-        fields = lp.perimeters.fields
+        fields = slicelab.printing.pipeline.plan_layer(s, slicelab.PrintSettings(pixel_size=p)).walls.fields
         times.append(statistics.median(runs))
         held.append(sum(f.grid.pixels for f in fields))
         box = sum(f.grid.shape[0] * f.grid.shape[1] for f in fields)
@@ -129,7 +129,7 @@ def skin_table(repeat: int) -> None:
     from slicelab.printing.steps.perimeters import perimeter_band
     from slicelab.printing.grid.raster import rasterize
     from profile_layers import timing  # (scripts/ is on the path when a script runs)
-    p = slicelab.PrintSettings().pixel_size
+    p = slicelab.slicelab.PrintSettings().pixel_size
     band = perimeter_band(0.4, 2, 0.15, p)
     print(f"\nthe ring as a top skin (all of it solid), layer_paths at {p:g} mm pixels (median of {repeat} runs)")
     print(f"{'radius mm':>10}{'time ms':>10}{'x prev':>8}{'gaps ms':>10}")
@@ -139,12 +139,12 @@ def skin_table(repeat: int) -> None:
         for radius in RADII:
             s = ring_section(radius)
             r = rasterize(s, p, band=band)
-            slicelab.layer_paths(s, 0.4, 2, 0.2, pixel_size=p, raster=r, solid=r.combined())  # warm
+            slicelab.layer_paths(s, slicelab.PrintSettings(pixel_size=p), slicelab.printing.pipeline.LayerInputs(raster=r, solid=r.combined()))  # warm
             runs, gaps = [], []
             for _ in range(repeat):
                 spent.clear()
                 t0 = time.perf_counter()
-                slicelab.layer_paths(s, 0.4, 2, 0.2, pixel_size=p, raster=r, solid=r.combined())
+                slicelab.layer_paths(s, slicelab.PrintSettings(pixel_size=p), slicelab.printing.pipeline.LayerInputs(raster=r, solid=r.combined()))
                 runs.append(time.perf_counter() - t0)
                 gaps.append(sum(spent))
             times.append(statistics.median(runs))
@@ -165,14 +165,15 @@ def pot_time(repeat: int) -> None:
         return
     s = slicelab.section(slicelab.load(path), (0, 0, 60.0), (0, 0, 1))
     slicelab.layer_paths(s)  # warm imports
-    for p in (slicelab.PrintSettings().pixel_size, 0.1, 0.05):
+    for p in (slicelab.slicelab.PrintSettings().pixel_size, 0.1, 0.05):
         runs = []
         for _ in range(max(repeat, 3)):
             t0 = time.perf_counter()
             lp = slicelab.layer_paths(s, 0.4, 2, 0.2, pixel_size=p)
             runs.append(time.perf_counter() - t0)
-        held = sum(f.grid.pixels for f in lp.perimeters.fields)
-        box = sum(f.grid.shape[0] * f.grid.shape[1] for f in lp.perimeters.fields)
+        walls = slicelab.printing.pipeline.plan_layer(s, slicelab.PrintSettings(pixel_size=p)).walls
+        held = sum(f.grid.pixels for f in walls.fields)
+        box = sum(f.grid.shape[0] * f.grid.shape[1] for f in walls.fields)
         print(f"\npot layer (z = 60 mm, {p:g} mm pixels): {1000 * statistics.median(runs):.0f} ms "
               f"(median of {len(runs)}), {held} px held of {box} in the islands' boxes")
 

@@ -39,13 +39,13 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 #: (stage, where it is called from): each is timed where its caller looks it up.
-STAGES = [("rasterize", "slicelab.printing.planner"), ("layer_skins", "slicelab.printing.planner"),
+STAGES = [("rasterize", "slicelab.printing.pipeline"), ("layer_skins", "slicelab.printing.steps.skins"),
           ("open_mask", "slicelab.printing.steps.skins"),
-          ("layer_overhangs", "slicelab.printing.planner"), ("layer_paths", "slicelab.printing.planner"),
+          ("layer_overhangs", "slicelab.printing.steps.overhangs"), ("plan_layer", "slicelab.printing.pipeline"),
           ("distance_field", "slicelab.printing.steps.perimeters"), ("level_rings", "slicelab.printing.steps.perimeters"),
           ("_opened", "slicelab.printing.steps.perimeters"), ("uncovered_blocks", "slicelab.printing.steps.perimeters"),
           ("medial_fill_blocks", "slicelab.printing.steps.perimeters"), ("split_by_mask", "slicelab.printing.steps.perimeters"),
-          ("fill_pattern", "slicelab.printing.steps.paths"), ("simplify_paths", "slicelab.printing.steps.paths")]
+          ("fill_pattern", "slicelab.printing.steps.filling"), ("simplify_paths", "slicelab.printing.steps.simplify")]
 
 
 @contextlib.contextmanager
@@ -84,7 +84,7 @@ def stage_times(run, layers: int) -> list[tuple[str, float]]:
 
 
 #: Modules of the stages the planner imports when it runs.
-_HOME = {"rasterize": "raster", "layer_skins": "skins", "layer_overhangs": "overhangs", "layer_paths": "paths"}
+_HOME = {"rasterize": "raster", "layer_skins": "skins", "layer_overhangs": "overhangs", "plan_layer": "pipeline"}
 
 
 def accuracy(mesh, sizes=(0.1, 0.15, 0.2)) -> None:
@@ -101,7 +101,7 @@ def accuracy(mesh, sizes=(0.1, 0.15, 0.2)) -> None:
         d = []
         for sec in secs:  # over layers
             geom = sec.to_shapely()
-            lp = slicelab.layer_paths(sec, 0.4, 2, 0.2, pixel_size=p)
+            lp = slicelab.layer_paths(sec, slicelab.PrintSettings(pixel_size=p))
             exact = shapely.union(geom.buffer(-0.2, quad_segs=64).boundary, geom.buffer(-0.6, quad_segs=64).boundary)
             lines = [shapely.LineString(r) for r in lp.external_contour_segments + lp.internal_contour_segments
                      if len(r) > 1]

@@ -49,7 +49,7 @@ _LAZY = {
     "rasterize": "printing.grid.raster", "LayerRaster": "printing.grid.raster", "GridMask": "printing.grid.raster",
     "raster_hierarchy": "printing.grid.hierarchy",
     "layer_perimeters": "printing.steps.perimeters", "Perimeters": "printing.steps.perimeters",
-    "layer_paths": "printing.steps.paths", "LayerPaths": "printing.steps.paths",
+    "layer_paths": "printing.pipeline", "LayerPaths": "printing.table",
     "PrintSettings": "printing.planner", "PrintPlan": "printing.planner", "plan": "printing.planner",
 }
 

@@ -5,7 +5,9 @@ import pytest
 import slicelab
 from slicelab.printing.fill.lines import fill_lines
 from slicelab.geometry.polygons import Polygon
-from slicelab.printing.steps.paths import coverage_map, covered_pixels, layer_paths
+from slicelab.printing import PrintSettings
+from slicelab.printing.pipeline import LayerInputs, layer_paths, plan_layer
+from slicelab.printing.steps.coverage import coverage_map, covered_pixels
 from slicelab.printing.grid.raster import GridMask
 from slicelab.samples import nested_shells
 from layer_shapes import SHAPES, circle, rect, rotation, section_of
@@ -28,7 +30,7 @@ def _inside_region(paths, region, tol=1e-7):
 @pytest.mark.parametrize("density", [0.2, 1.0])
 def test_filling_stays_inside_the_last_perimeter(name, density):
     loops = {**CONVEX, **SHAPES}[name]
-    lp = layer_paths(section_of(loops), 0.4, 2, density, pixel_size=0.1)
+    lp = layer_paths(section_of(loops), PrintSettings(infill_density=density, pixel_size=0.1))
     region = shapely.Polygon(loops[0], loops[1:]).buffer(-0.8)  # inside the second perimeter
     assert lp.filling_segments
     # Centre lines stay inside the region; their extrusions overlap the last perimeter by at
@@ -41,15 +43,15 @@ def test_filling_stays_inside_the_last_perimeter(name, density):
 @pytest.mark.parametrize("name", list(CONVEX))
 def test_convex_regions_need_one_zigzag(name):
     for density in (0.2, 1.0):
-        lp = layer_paths(section_of(CONVEX[name]), 0.4, 2, density, pixel_size=0.1)
+        lp = layer_paths(section_of(CONVEX[name]), PrintSettings(infill_density=density, pixel_size=0.1))
         assert len(lp.filling_segments) <= 2, (name, density, len(lp.filling_segments))
 
 
 @pytest.mark.parametrize("name", ["square", "disc"])
 def test_solid_filling_covers_the_region(name):
     p = 0.05
-    lp = layer_paths(section_of(CONVEX[name]), 0.4, 2, 1.0, pixel_size=p)
-    f = lp.perimeters.fields[0]
+    planned = plan_layer(section_of(CONVEX[name]), PrintSettings(infill_density=1.0, pixel_size=p))
+    lp, f = planned.paths, planned.walls.fields[0]
     g = f.grid
     region = g.mask & (f.values >= 0.8)  # inside the last perimeter
     cov = np.zeros(g.shape, bool)
@@ -67,7 +69,7 @@ def test_lines_lie_on_a_world_anchored_grid_and_alternate():
     s = 2.0
     for loops in (CONVEX["disc"], [rect(3.3, 1.7, 17.1, 9.9)]):
         for layer, angle in ((0, 45.0), (1, 135.0)):
-            lp = layer_paths(section_of(loops), 0.4, 2, 0.2, pixel_size=0.1, layer_index=layer)
+            lp = layer_paths(section_of(loops), PrintSettings(pixel_size=0.1), LayerInputs(index=layer))
             a = np.radians(angle)
             n = np.array([-np.sin(a), np.cos(a)])
             d = np.array([np.cos(a), np.sin(a)])
@@ -104,8 +106,8 @@ def test_fill_lines_against_shapely_intersection():
 
 def test_layer_paths_order_and_formalism():
     s = slicelab.section(nested_shells(), (0, 0, 20), (0, 0, 1))
-    lp = layer_paths(s, 0.4, 2, 0.2, pixel_size=0.1)
-    first = layer_paths(s, 0.4, 2, 0.2, pixel_size=0.1, external_first=True)
+    lp = layer_paths(s, PrintSettings(pixel_size=0.1))
+    first = layer_paths(s, PrintSettings(pixel_size=0.1, external_perimeters_first=True))
     # Two islands (the outer wall with its cavity, the cube in the cavity): each prints its
     # perimeters, then its gap fill and filling. By default the innermost perimeter goes first and
     # the outer one last; with external_first, the outer one (and the cavity's wall) first.
@@ -135,8 +137,8 @@ def test_layer_paths_order_and_formalism():
 
 def test_overlapping_cubes_one_island_under_nonzero(data_dir):
     s = slicelab.section(slicelab.load(data_dir / "overlapping_cubes.stl"), (0, 0, 10), (0, 0, 1))
-    nz = layer_paths(s, pixel_size=0.1)
-    eo = layer_paths(s, pixel_size=0.1, rule="evenodd")
+    nz = layer_paths(s, PrintSettings(pixel_size=0.1))
+    eo = layer_paths(s, PrintSettings(pixel_size=0.1, rule="evenodd"))
     assert len(nz.external_contour_segments) == 1 and len(nz.internal_contour_segments) == 1
     assert not any(k == "gap_fill" for k, _ in nz.sequence)
     # Even-odd: the overlap is a hole, and the two L-shaped rests touch only at two corners,
@@ -155,7 +157,7 @@ def test_solid_mask_region_is_filled_solid_at_its_own_angle():
     mask = np.zeros((300, 150), bool)
     mask[:, :] = True  # x in [-2, 13) : the left part
     solid = GridMask(mask, -50, -20, p)
-    lp = layer_paths(section_of(loops), 0.4, 2, 0.2, pixel_size=p, solid=solid, solid_angle=0.0)
+    lp = layer_paths(section_of(loops), PrintSettings(pixel_size=p), LayerInputs(solid=solid, solid_angle=0.0))
     kinds = np.array(lp.filling_kinds)
     assert {"solid", "sparse"} <= set(kinds)
     sol = [q for q, k in zip(lp.filling_segments, kinds) if k == "solid"]
@@ -169,10 +171,10 @@ def test_solid_mask_region_is_filled_solid_at_its_own_angle():
 
 
 def test_empty_section_gives_empty_paths():
-    lp = layer_paths(section_of([rect(0, 0, 0.1, 0.1)]), pixel_size=0.05)
+    lp = layer_paths(section_of([rect(0, 0, 0.1, 0.1)]), PrintSettings(pixel_size=0.05))
     assert lp.filling_segments == [] and lp.external_contour_segments == []
     with pytest.raises(ValueError, match="density"):
-        layer_paths(section_of([rect(0, 0, 1, 1)]), infill_density=1.5)
+        layer_paths(section_of([rect(0, 0, 1, 1)]), PrintSettings(infill_density=1.5))
 
 
 def test_rectilinear_leaves_out_stubs_at_corners():

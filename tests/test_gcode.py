@@ -15,7 +15,7 @@ from slicelab.geometry.polygons import Polygon
 from slicelab.samples import box, cube_with_hole
 from slicelab.printing.config.bed import check_bed
 from slicelab.gcode.estimate import format_duration, move_times
-from slicelab.printing.steps.paths import layer_paths
+from slicelab.printing.pipeline import layer_paths
 from slicelab.printing.fill import PATTERNS, fill_pattern
 from slicelab.printing.fill.gyroid import GYROID_LENGTH
 from slicelab.printing.planner import PrintSettings, layer_bounds, plan
@@ -136,7 +136,7 @@ def test_simplification_keeps_corners_and_paths_that_double_back():
 @pytest.mark.parametrize("name", list(SHAPES))
 def test_simplified_perimeters_stay_within_0025_of_exact_offsets(name):
     loops = SHAPES[name]
-    lp = layer_paths(section_of(loops), 0.4, 2, 0.2, pixel_size=0.05)
+    lp = layer_paths(section_of(loops), PrintSettings(pixel_size=0.05))
     poly = shapely.Polygon(loops[0], loops[1:])
     exact = shapely.union_all([poly.buffer(-level, quad_segs=64).boundary for level in (0.2, 0.6)])
     ours = shapely.MultiLineString(lp.external_contour_segments + lp.internal_contour_segments)
@@ -147,10 +147,10 @@ def test_no_move_shorter_than_the_geometry_needs():
     # A disc of radius 30 sampled every 0.05 mm: its perimeters need chords of about
     # sqrt(8 r tol) = 1.7 mm to stay within 0.0125 mm of it.
     loops = [circle(30.0, 3770, (0.013, 0.021))]
-    lp = layer_paths(section_of(loops), 0.4, 2, 0.2, pixel_size=0.05)
+    lp = layer_paths(section_of(loops), PrintSettings(pixel_size=0.05))
     seg = np.concatenate([np.hypot(*np.diff(q, axis=0).T) for _, q, _ in lp.ordered()])
     assert np.median(seg) > 1.0 and np.mean(seg < 0.1) < 0.01, (np.median(seg), np.mean(seg < 0.1))
-    raw = layer_paths(section_of(loops), 0.4, 2, 0.2, pixel_size=0.05, resolution=0.0)
+    raw = layer_paths(section_of(loops), PrintSettings(pixel_size=0.05, gcode_resolution=0.0))
     assert sum(len(q) for _, q, _ in raw.ordered()) > 1.5 * sum(len(q) for _, q, _ in lp.ordered())
 
 

@@ -59,7 +59,7 @@ def test_a_deck_between_pillars_is_bridged_across_the_gap(bridged):
     assert pts[:, 0].min() < 6 and pts[:, 0].max() > 24
     bridged_len = length.sum()
     assert bridged_len * s.line_width == pytest.approx(20 * 10, rel=0.25)  # the gap's area, about
-    assert pp.overhangs[k, 2] == 1
+    assert pp.overhangs["bridges"][k] == 1
     # Held on both sides: nothing reported as unsupported.
     assert [w["code"] for w in pp.warnings()] == []
     # The layers below and above the deck's first layer have no bridge.
@@ -87,18 +87,18 @@ def test_only_steep_overhangs_are_reported(angle, unsupported):
     s = PrintSettings(**S)
     pp = plan(ramp(angle), s, workers=1)
     codes = [w["code"] for w in pp.warnings()]
-    assert ("unsupported_overhang" in codes) == unsupported, (angle, pp.overhangs[:, 0].sum())
+    assert ("unsupported_overhang" in codes) == unsupported, (angle, pp.overhangs["area"].sum())
     # A leaning wall's sliver over nothing, held on one side, lies within its edge band: no bridge.
-    assert pp.overhangs[:, 2].sum() == 0
+    assert pp.overhangs["bridges"].sum() == 0
     if unsupported:
         # Every layer above the first leans out by h tan(60) = 0.43 mm, beyond h tan(50) = 0.30 mm.
-        assert (pp.overhangs[1:, 0] > 0).mean() > 0.9
+        assert (pp.overhangs["area"][1:] > 0).mean() > 0.9
         w = next(w for w in pp.warnings() if w["code"] == "unsupported_overhang")
         # The angle measured from the masks: the layer's reach beyond the one below, to a pixel.
-        reach = pp.overhangs[1:, 5]
+        reach = pp.overhangs["angle"][1:]
         assert np.median(reach) == pytest.approx(60, abs=math.degrees(math.atan(0.1 / 0.25)))
         assert w["steepest_deg"] >= 55 and "up to" in w["message"]
-        assert pp.overhangs[1:, 3][np.isfinite(pp.overhangs[1:, 3])].min() > 9.0  # on the leaning +x side
+        assert pp.overhangs["x"][1:][np.isfinite(pp.overhangs["x"][1:])].min() > 9.0  # on the leaning +x side
 
 
 @pytest.mark.parametrize("pixel", [None, 0.1])
@@ -112,7 +112,7 @@ def test_the_threshold_holds_at_the_default_pixel_size(pixel):
         pp = plan(ramp(angle), PrintSettings(layer_height=h, first_layer_height=h, skirt_loops=0, pixel_size=pixel),
                   workers=1)
         strip = max(h * math.tan(math.radians(angle)) - h * math.tan(math.radians(50)), 0.0)
-        assert pp.overhangs[1:, 0].sum() == pytest.approx(strip * 10 * (len(pp.layers) - 1), rel=0.1, abs=1e-9), angle
+        assert pp.overhangs["area"][1:].sum() == pytest.approx(strip * 10 * (len(pp.layers) - 1), rel=0.1, abs=1e-9), angle
 
 
 def test_a_steeper_threshold_lets_the_ramp_hold():
@@ -132,7 +132,7 @@ def test_a_cantilever_is_bridged_out_from_its_anchor_but_for_its_edges():
     s = PrintSettings(**S)
     pp = plan(_tee(), s, workers=1)
     k = int(round(6.0 / 0.25))
-    assert pp.overhangs[k, 2] == 2  # each arm is bridged out from the stem
+    assert pp.overhangs["bridges"][k] == 2  # each arm is bridged out from the stem
     seg = np.concatenate([np.diff(q, axis=0) for kind, q, _ in pp.layers[k].rows({"bridge"})])
     length = np.hypot(*seg.T)
     assert length[np.abs(seg[:, 1]) < 1e-6].sum() > 0.8 * length.sum()  # along x: out from the stem
@@ -140,16 +140,16 @@ def test_a_cantilever_is_bridged_out_from_its_anchor_but_for_its_edges():
     # arm hangs from a wall's reach, h tan(50), beyond the stem).
     b = s.n_perimeters * s.line_width + EDGE_MARGIN
     arm = 8 - 0.25 * math.tan(math.radians(50))
-    assert pp.overhangs[k, 0] == pytest.approx(2 * (2 * b * arm + b * (20 - 2 * b)), rel=0.1)
+    assert pp.overhangs["area"][k] == pytest.approx(2 * (2 * b * arm + b * (20 - 2 * b)), rel=0.1)
     assert "unsupported_overhang" in [w["code"] for w in pp.warnings()]
 
 
 def test_without_dont_support_bridges_a_cantilever_is_an_overhang_not_a_bridge():
     pp = plan(_tee(), PrintSettings(**S, dont_support_bridges=False), workers=1)
     k = int(round(6.0 / 0.25))
-    assert pp.overhangs[k, 2] == 0
+    assert pp.overhangs["bridges"][k] == 0
     # About the two arms' area, less the reach a wall holds and a pixel at each edge.
-    assert pp.overhangs[k, 0] == pytest.approx(2 * 8 * 20, rel=0.1)
+    assert pp.overhangs["area"][k] == pytest.approx(2 * 8 * 20, rel=0.1)
     assert "bridge" not in pp.layers[k].kinds()
     assert "unsupported_overhang" in [w["code"] for w in pp.warnings()]
 
@@ -158,7 +158,7 @@ def test_an_island_that_starts_in_mid_air_is_named():
     part = concat(box((0, 0, 0), (10, 10, 6)), box((15, 0, 3), (20, 5, 6)))
     pp = plan(part, PrintSettings(**S), workers=1)
     k = int(round(3.0 / 0.25))
-    assert pp.overhangs[k, 1] == 1 and pp.overhangs[:k, 1].sum() == 0 and pp.overhangs[k + 1:, 1].sum() == 0
+    assert pp.overhangs["mid_air"][k] == 1 and pp.overhangs["mid_air"][:k].sum() == 0 and pp.overhangs["mid_air"][k + 1:].sum() == 0
     w = {w["code"]: w for w in pp.warnings()}
     assert w["mid_air"]["islands"] == 1 and w["mid_air"]["first_z"] == pytest.approx(3.25)
 
@@ -274,7 +274,7 @@ def test_supports_hold_only_the_edges_of_a_bridged_cap(tmp_path):
     s = PrintSettings(**S, support="auto")
     pp = plan(mushroom(), s, workers=1)
     cap = int(round(6.0 / s.layer_height))
-    assert "bridge" in pp.layers[cap].kinds() and pp.overhangs[cap, 2] == 1
+    assert "bridge" in pp.layers[cap].kinds() and pp.overhangs["bridges"][cap] == 1
     rows = _support_rows(pp)
     top = cap - 1 - s.support_z_gap_layers
     assert all(rows[k] for k in range(0, top + 1)) and not any(rows[k] for k in range(top + 1, len(rows)))

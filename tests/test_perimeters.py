@@ -4,6 +4,7 @@ import pytest
 
 import slicelab
 from slicelab.geometry.spatial import SegmentIndex
+from slicelab.printing.pipeline import plan_layer
 from slicelab.printing.steps.perimeters import layer_perimeters as perimeters
 from slicelab.samples import nested_shells
 from layer_shapes import SHAPES, corner_angles, rect, section_of
@@ -243,7 +244,7 @@ def test_default_pixel_is_one_whose_accuracy_is_tested():
     assert slicelab.PrintSettings().pixel_size in TOLERANCE
     s = section_of([rect(0, 0, 10, 6) + 0.013])
     assert perimeters(s, 0.4, 2).fields[0].grid.pixel_size in TOLERANCE
-    assert slicelab.layer_paths(s, 0.4, 2, 0.2).perimeters.fields[0].grid.pixel_size in TOLERANCE
+    assert plan_layer(s).walls.fields[0].grid.pixel_size in TOLERANCE
     assert perimeters(s, 0.6, 2).fields[0].grid.pixel_size == pytest.approx(0.3)
     assert slicelab.PrintSettings(line_width=0.6).pixel_size == pytest.approx(0.3)
     assert slicelab.PrintSettings(line_width=0.6, pixel_size=0.1).pixel_size == 0.1

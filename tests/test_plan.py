@@ -338,7 +338,7 @@ def test_layers_that_repeat_take_the_toolpaths_two_below(part, tmp_path, monkeyp
     # walls are cut where each layer meets the facets' diagonals): the planner computes the
     # toolpaths of far fewer layers than it plans, and the G-code written and read back is the one
     # every layer planned afresh gives, byte for byte, skins round the step included.
-    import slicelab.printing.steps.paths as paths
+    import slicelab.printing.pipeline as pipeline
     import slicelab.printing._reuse as repeats
     if part == "stepped block":
         occ = np.zeros((3, 3, 3), bool)
@@ -349,8 +349,9 @@ def test_layers_that_repeat_take_the_toolpaths_two_below(part, tmp_path, monkeyp
         mesh = cube_with_hole(size=12.0, radius=3.0)
     s = PrintSettings(pixel_size=0.1)
     computed = []
-    real = paths.layer_paths
-    monkeypatch.setattr(paths, "layer_paths", lambda *a, **k: computed.append(k["layer_index"]) or real(*a, **k))
+    real = pipeline.plan_layer
+    monkeypatch.setattr(pipeline, "plan_layer", lambda sec, s, inputs, **k: computed.append(inputs.index)
+                        or real(sec, s, inputs, **k))
     reused = plan(mesh, s, workers=1)  # (in this process: its layer_paths calls are counted)
     n_reused = len(reused.layers) - len(computed)
     taken = set(range(len(reused.layers))) - set(computed)
@@ -365,7 +366,9 @@ def test_layers_that_repeat_take_the_toolpaths_two_below(part, tmp_path, monkeyp
     assert n_reused >= 0.5 * len(fresh.layers), n_reused
     assert (tmp_path / "reused.gcode").read_bytes() == (tmp_path / "fresh.gcode").read_bytes()
     assert [lp.kinds() for lp in reused.layers] == [lp.kinds() for lp in fresh.layers]
-    assert np.allclose(reused.areas, fresh.areas) and np.array_equal(reused.overhangs, fresh.overhangs, equal_nan=True)
+    assert all(np.allclose(reused.areas[f], fresh.areas[f]) for f in reused.areas.dtype.names)
+    assert all(np.array_equal(reused.overhangs[f], fresh.overhangs[f], equal_nan=True)
+               for f in reused.overhangs.dtype.names)
 
 
 def test_runs_that_start_alike_are_made_once(tmp_path, monkeypatch):
@@ -373,15 +376,16 @@ def test_runs_that_start_alike_are_made_once(tmp_path, monkeypatch):
     # so each run's first layers are planned anew until its toolpaths settle; the runs from 40 on
     # start as the run at 20 did (steady layers, one outline) and take those layers, made once.
     # The G-code read back is the one every layer planned afresh gives, with one worker or two.
-    import slicelab.printing.steps.paths as paths
+    import slicelab.printing.pipeline as pipeline
     import slicelab.printing._reuse as repeats
     mesh = cube_with_hole(size=20.0, radius=5.0)
     s = PrintSettings(pixel_size=0.1)
     assert repeats.run_starts(dict(enumerate(slicelab.slice_layers(mesh, heights=np.arange(0.1, 20, 0.2)))), 100,
                               (4, 3), 1e-5, 20, 6) == {20: 20, 40: 20, 60: 20, 80: 20}
     computed = []
-    real = paths.layer_paths
-    monkeypatch.setattr(paths, "layer_paths", lambda *a, **k: computed.append(k["layer_index"]) or real(*a, **k))
+    real = pipeline.plan_layer
+    monkeypatch.setattr(pipeline, "plan_layer", lambda sec, s, inputs, **k: computed.append(inputs.index)
+                        or real(sec, s, inputs, **k))
     one = plan(mesh, s, workers=1)
     assert {20, 21} <= set(computed) and not {40, 41, 60, 61, 80, 81} & set(computed)
     write_gcode(one, tmp_path / "one.gcode")
@@ -402,7 +406,7 @@ def test_layers_of_a_prism_written_in_float32_far_from_the_origin_repeat(tmp_pat
     # one (a ring's simplification may keep other vertices), filling of each kind along the same
     # direction and about as long (a start a rounding away may link its zigzags otherwise), about as
     # many G-code lines and the same filament within a percent, read back.
-    import slicelab.printing.steps.paths as paths
+    import slicelab.printing.pipeline as pipeline
     import slicelab.printing._reuse as repeats
     from slicelab.mesh import default_tolerance
     exact = cube_with_hole(size=12.0, radius=3.0).triangles + [500.3, 300.7, 0.1]
@@ -419,8 +423,8 @@ def test_layers_of_a_prism_written_in_float32_far_from_the_origin_repeat(tmp_pat
     assert walls  # some walls lean: their tops are not above their bottoms
     s = PrintSettings(pixel_size=0.1)
     computed = []
-    real = paths.layer_paths
-    monkeypatch.setattr(paths, "layer_paths", lambda *a, **k: computed.append(1) or real(*a, **k))
+    real = pipeline.plan_layer
+    monkeypatch.setattr(pipeline, "plan_layer", lambda *a, **k: computed.append(1) or real(*a, **k))
     reused = plan(mesh, s, workers=1)
     assert len(reused.layers) - len(computed) >= 0.5 * len(reused.layers)
     monkeypatch.setattr(repeats, "same_outline", lambda *args: False)

@@ -35,7 +35,7 @@ _WHERE = {"PRINTERS": "config.printers", "FLAVORS": "config.printers", "resolve_
           "skirt_margin": "steps.skirt", "with_skirt": "steps.skirt",
           "check_bed": "config.bed", "ISLAND_ROLES": "roles",
           "ROLES": "roles", "FILLING_KINDS": "roles", "KINDS": "roles", "ROLE_OF": "roles", "RoleStyle": "roles", "STYLES": "roles",
-          "LayerPaths": "table", "SEAMS": "steps.paths", "layer_paths": "steps.paths", "coverage_map": "steps.paths", "covered_pixels": "steps.paths",
+          "LayerPaths": "table", "SEAMS": "steps.order", "layer_paths": "pipeline", "plan_layer": "pipeline", "LayerInputs": "pipeline", "LayerPlan": "pipeline", "STEPS": "pipeline", "coverage_map": "steps.coverage", "covered_pixels": "steps.coverage",
           "PrintPlan": "planner", "plan": "planner", "layer_bounds": "planner", "forked_pool": "_pool",
           "PrintSettings": "config.settings", "settings_dict": "config.settings", "Bridge": "steps.overhangs", "LayerOverhangs": "steps.overhangs", "layer_overhangs": "steps.overhangs", "mark_overhangs": "steps.overhangs", "PERIMETER_KINDS": "steps.overhangs", "setting_names": "config.settings",
           "Extrusion": "config.settings", "Infill": "config.settings", "Skins": "config.settings", "Motion": "config.settings",

@@ -22,7 +22,7 @@ import gc
 import math
 import os
 import sys
-from dataclasses import dataclass, field, replace
+from dataclasses import astuple, dataclass, field, replace
 from functools import cached_property, partial
 
 import numpy as np
@@ -32,6 +32,7 @@ from .config.bed import check_bed, footprint_extent
 from .fill import PATTERNS
 from ._reuse import RunStart
 from .config.settings import PrintSettings
+from .pipeline import AREA_FIELDS, OVERHANG_FIELDS, records
 
 __all__ = ["PrintPlan", "plan", "layer_bounds"]
 
@@ -69,17 +70,19 @@ class PrintPlan:
         Thickness of each layer.
     offset : (3,) ndarray
         Translation from the part's coordinates to the bed's (added in G-code).
-    areas : (n, 4) ndarray
-        Per layer, the material area, the area inside the last perimeter and
-        its solid (skin) part (mm^2), from the rasters, and the length of the
-        sparse filling region's boundary (mm, from its level set).
+    areas : (n,) record array
+        Per layer (`slicelab.printing.pipeline.LayerAreas`): ``material``, the area
+        inside the last perimeter ``inner`` and its ``solid`` (skin) part (mm^2), from
+        the rasters, and the length of the sparse filling region's boundary
+        ``fill_edge`` (mm, from its level set).
     part_volume : float
         Sum of material area x layer height (mm^3).
-    overhangs : (n, 6) ndarray
-        Per layer (`slicelab.printing.steps.overhangs`): the area over nothing beyond the overhang
-        threshold and not bridged (mm^2), the islands that start in mid-air, the bridges,
-        a point (x, y; part coordinates, NaN if none) of the largest unheld part, and the
-        steepest overhang measured (degrees from the vertical, 0 within the threshold).
+    overhangs : (n,) record array
+        Per layer (`slicelab.printing.pipeline.OverhangSummary`): the ``area`` over nothing
+        beyond the overhang threshold and not bridged (mm^2), the islands that start in
+        ``mid_air``, the ``bridges``, a point (``x``, ``y``; part coordinates, NaN if none) of
+        the largest unheld part, and the steepest overhang measured (``angle``, degrees from
+        the vertical, 0 within the threshold).
     seconds : dict
         Time spent slicing and making the paths.
     texts : dict
@@ -108,7 +111,7 @@ class PrintPlan:
     areas: np.ndarray
     part_volume: float = 0.0
     seconds: dict = field(default_factory=dict)
-    overhangs: np.ndarray = field(default_factory=lambda: np.zeros((0, 6)))
+    overhangs: np.ndarray = field(default_factory=lambda: records([], OVERHANG_FIELDS))
     texts: dict = field(default_factory=dict, repr=False)
     extent: tuple = (0.0, 0.0, 0.0, 0.0)
     drawings: dict = field(default_factory=dict, repr=False)
@@ -134,22 +137,22 @@ class PrintPlan:
         held = " (supports stand only on the bed: those over the part are not held)" \
             if self.settings.support == "bed" else "; slicelab makes no supports unless asked (--support auto)"
         z = self.z
-        hang = np.flatnonzero(ov[:, 0] > 0)
+        hang = np.flatnonzero(ov["area"] > 0)
         if len(hang):
-            k = hang[np.argmax(ov[hang, 0])]
-            steepest = float(ov[hang, 5].max())
-            out.append({"code": "unsupported_overhang", "area_mm2": float(ov[hang, 0].sum()),
+            k = hang[np.argmax(ov["area"][hang])]
+            steepest = float(ov["angle"][hang].max())
+            out.append({"code": "unsupported_overhang", "area_mm2": float(ov["area"][hang].sum()),
                         "layers": int(len(hang)), "first_z": float(z[hang[0]]), "steepest_deg": steepest,
-                        "message": f"{ov[hang, 0].sum():.1f} mm2 over nothing on {len(hang)} layers "
+                        "message": f"{ov['area'][hang].sum():.1f} mm2 over nothing on {len(hang)} layers "
                                    f"(from z = {z[hang[0]]:.2f} mm) overhang more than "
                                    f"{self.settings.overhang_threshold:g} degrees (up to {steepest:.0f}) "
                                    f"and no bridge holds them "
-                                   f"(largest at x = {ov[k, 3]:.1f}, y = {ov[k, 4]:.1f} mm in the part's "
+                                   f"(largest at x = {ov['x'][k]:.1f}, y = {ov['y'][k]:.1f} mm in the part's "
                                    f"coordinates){held}"})
-        air = np.flatnonzero(ov[:, 1] > 0)
+        air = np.flatnonzero(ov["mid_air"] > 0)
         if len(air):
-            out.append({"code": "mid_air", "islands": int(ov[air, 1].sum()), "first_z": float(z[air[0]]),
-                        "message": f"{int(ov[air, 1].sum())} island(s) start in mid-air (first at z = "
+            out.append({"code": "mid_air", "islands": int(ov["mid_air"][air].sum()), "first_z": float(z[air[0]]),
+                        "message": f"{int(ov['mid_air'][air].sum())} island(s) start in mid-air (first at z = "
                                    f"{z[air[0]]:.2f} mm) and would print onto nothing{held}"})
         return out
 
@@ -187,7 +190,8 @@ class PrintPlan:
         other gap between two lines, on each side), so half that boundary
         at one line width is added.
         """
-        total, inner, solid, edge = self.areas.T
+        a = self.areas
+        total, inner, solid, edge = a["material"], a["inner"], a["solid"], a["fill_edge"]
         s = self.settings
         d = s.infill_density
         links = 0.5 * edge * s.line_width if d > 0 else 0.0
@@ -202,54 +206,35 @@ _GROUP = 5  # runs per call at most: a worker's call holds the rasters of its la
 
 def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, s: PrintSettings,
                layer_text=None, heights=None, layer_drawing=None, extent=None, repeat_tolerance: float = 1e-9,
-               starts: dict | None = None, state: dict | None = None):
-    """Toolpaths of layers first..stop-1 of n (and, given `layer_text` and `layer_drawing`, their
-    text and drawings: see `plan`).
+               starts: dict | None = None, state: dict | None = None) -> list:
+    """The `LayerResult` of layers first..stop-1 of n (with, given `layer_text` and `layer_drawing`,
+    their text and drawings: see `plan`).
 
     `window` maps a layer's index to its section for these layers and the
     `bottom_layers` below and `top_layers` above them (their skins need them);
     `z_tops` are the tops of these layers. The nozzle is carried from one layer to the
     next within each run of `_RUN` layers (and from `first`) and starts afresh at each run,
-    so the paths do not depend on how runs are grouped into calls. Each layer is rasterised
-    once, when the first layer that reads it comes, and dropped when the last has. A layer of a
-    prismatic stretch takes the toolpaths of the layer two below when all they depend on is
-    the same (`slicelab.printing._reuse`; outlines within `repeat_tolerance` mm), within a run
-    of layers; a run that starts as an earlier one did takes its first layers from `starts` (run
-    start -> `slicelab.printing._reuse.RunStart`). Everything comes as arguments: a pool's worker
-    needs no state from the parent. `state`, if given, receives the nozzle's position, the seam,
-    what `Repeats` keeps and the solid skin after the last layer.
+    so the paths do not depend on how runs are grouped into calls. Each layer runs the steps of
+    `slicelab.printing.pipeline` (`layer_inputs`, `plan_layer`, `finish_layer`). Around them, a
+    memo (`slicelab.printing._reuse.Repeats`): a layer of a prismatic stretch takes what the
+    layer two below made when all it depends on is the same (outlines within `repeat_tolerance`
+    mm), within a run of layers; a run that starts as an earlier one did takes its first layers
+    from `starts` (run start -> `RunStart`). Everything comes as arguments: a pool's worker needs
+    no state from the parent. `state`, if given, receives the nozzle's position, the seam, what
+    the memo keeps and the solid skin after the last layer.
     """
-    from .steps.overhangs import EDGE_MARGIN, layer_overhangs, mark_overhangs
-    from .steps.paths import layer_paths
-    from .steps.perimeters import perimeter_band
-    from .steps.skins import internal_bridge, layer_skins
-    from .grid.raster import layer_mask, rasterize
     from ._reuse import Repeats
+    from .pipeline import LayerResult, LayerWindow, OverhangSummary, at_height, finish_layer, layer_inputs, plan_layer
     from .steps.simplify import simplify_paths
-    from .steps.skirt import skirt_loops, with_skirt
-    sections = window
+    from .steps.skins import layer_skins
+    from .steps.skirt import skirt_loops
     # Layers whose toolpaths the layer two above may take (not when the infill changes with height).
-    repeats = Repeats(sections, n, (s.bottom_layers + 1, s.top_layers), repeat_tolerance,
+    repeats = Repeats(window, n, (s.bottom_layers + 1, s.top_layers), repeat_tolerance,
                       enabled=not PATTERNS[s.infill_pattern].varies_with_z or s.infill_density == 0)
-    band = perimeter_band(s.line_width, s.n_perimeters, s.infill_overlap, s.pixel_size)
-    edge_band = s.n_perimeters * s.line_width + EDGE_MARGIN if s.dont_support_bridges else None
-    rasters, masks = {}, {}
-
-    def reach(k):
-        """Masks of the layers layer k's skins read, and of none below them; the raster of layer k
-        (its islands and the edges that bound its material: only a layer planned needs them)."""
-        for j in [j for j in masks if j < k - s.bottom_layers - 1]:  # over the few left behind
-            del masks[j]
-        for j in range(max(0, k - s.bottom_layers - 1), min(n, k + s.top_layers + 1)):  # the window
-            if j not in masks:
-                masks[j] = layer_mask(sections[j], s.pixel_size, rule=s.rule, band=band)
-        if k not in rasters:
-            rasters.clear()
-            rasters[k] = rasterize(sections[k], s.pixel_size, rule=s.rule, band=band, tile=masks[k])
-
+    grid = LayerWindow(window, n, s)
     out = []
-    reach(first)  # (the skins of layer first - 1 read no further)
-    below_solid = layer_skins(first - 1, masks, s.skins, s.line_width)[0] if first > 0 else None
+    grid.reach(first)  # (the skins of layer first - 1 read no further)
+    below_solid = layer_skins(first - 1, grid.masks, s.skins, s.line_width)[0] if first > 0 else None
     resume = first
     for k in range(first, stop):  # over layers
         if k < resume:
@@ -259,15 +244,12 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
             repeats.clear()
             alike = starts.get(k) if starts else None
             if alike is not None:  # a run that starts as an earlier one: what it made, at these heights
-                for i, (lp, areas, held, unheld) in enumerate(alike.layers):
-                    lp = replace(lp, z=float(z_tops[k + i - first]))
-                    lp.extruded_area()
-                    out.append((k + i, lp, areas, held, unheld))
+                for i, r in enumerate(alike.layers):
+                    out.append(replace(r, index=k + i, paths=at_height(r.paths, z_tops[k + i - first])))
                 pos, seam, below_solid = alike.pos, alike.seam, alike.below_solid
                 repeats.kept.update(alike.kept)
                 resume = k + len(alike.layers)
                 continue
-        parity = k % 2
         taken = repeats.take(k, pos, seam)  # (a steady layer: before its raster and skins)
         if taken is not None:  # the layer two below again: the same toolpaths, at this height
             lp, _, areas, held = taken
@@ -276,95 +258,47 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
             items = list(lp.ordered())
             pos = items[-1][1][-1] if items else pos
             below_solid = None
-            lp = replace(lp, z=float(z_tops[k - first]), perimeters=None)
-            lp.extruded_area()
-            out.append((k, lp, areas, held, ()))
+            out.append(LayerResult(k, at_height(lp, z_tops[k - first]), areas, held))
             continue
         at, below = pos, seam
-        reach(k)  # (a layer that took the toolpaths below needs no raster, only its mask if a neighbour reads it)
-        solid, top = layer_skins(k, masks, s.skins, s.line_width)
-        solid_angle = (s.infill_angle + 90.0 * parity) if s.solid_angle is None else s.solid_angle
-        ov = None
-        if k > 0 and masks[k] is not None:  # the first layer lies on the bed
-            ov = layer_overhangs(masks[k], masks.get(k - 1), s.layer_height, threshold=s.overhang_threshold,
-                                 islands=rasters[k], edge_band=edge_band, angle=solid_angle,
-                                 below_section=sections.get(k - 1))
-        bridges = list(ov.bridges) if ov else []
-        if s.infill_density < 1 and k > 0:  # a skin's first layer over sparse infill bridges it
-            inner = internal_bridge(solid, masks.get(k - 1), below_solid, s.line_width, solid_angle)
-            bridges += [inner] if inner is not None else []
+        grid.reach(k)  # (a layer that took the toolpaths below needs no raster, only its mask if a neighbour reads it)
+        inputs, ov, solid = layer_inputs(k, grid, s, below_solid)
         below_solid = solid
         skirt = brim = ()
         if k == 0:
-            skirt, brim = skirt_loops(sections[0], s.line_width, loops=s.skirt_loops, distance=s.skirt_distance,
+            skirt, brim = skirt_loops(window[0], s.line_width, loops=s.skirt_loops, distance=s.skirt_distance,
                                       brim_width=s.brim_width)
             skirt, brim = (simplify_paths(q, s.gcode_resolution) for q in (skirt, brim))
             if skirt or brim:
                 pos = (list(skirt) + list(brim))[-1][-1]
         # With no bridge and nothing unheld, a layer with the outline, skins, start and seam of the
         # layer two below makes what it made (a step within the skins' reach above or below).
-        plain = k > 0 and not bridges and not (ov is not None and len(ov.unheld))
-        made = repeats.take(k, pos, seam, (solid, top)) if plain else None
+        plain = k > 0 and not inputs.bridges and not (ov is not None and len(ov.unheld))
+        made = repeats.take(k, pos, seam, (inputs.solid, inputs.top)) if plain else None
         if made is not None:
             _, lp, areas, _ = made  # (its toolpaths before the layer below marked them)
         else:
-            lp = layer_paths(sections[k], s.line_width, s.n_perimeters, s.infill_density, s.infill_angle,
-                             s.pixel_size, layer_index=k, rule=s.rule, overlap=s.infill_overlap, solid=solid,
-                             solid_angle=solid_angle, top=top, bridges=bridges, start=pos, raster=rasters[k],
-                             pattern=s.infill_pattern,
-                             resolution=s.gcode_resolution, seam=s.seam_position, seam_point=seam,
-                             external_first=s.external_perimeters_first)
-            areas = _areas(lp, rasters[k], solid, s)
-        unmarked = replace(lp, perimeters=None)
+            planned = plan_layer(window[k], s, inputs, start=pos, seam=seam)
+            lp, areas = planned.paths, planned.areas
+        unmarked = lp
         outer = [q for kind, q, _ in lp.rows({"external"})]
         if outer:
             seam = outer[0][0]
-        lp = with_skirt(lp, skirt, brim)
-        if k > 0 and masks.get(k - 1) is not None:
-            lp = mark_overhangs(lp, masks[k - 1], sections[k - 1], rule=s.rule)
+        lp = finish_layer(k, grid, s, lp, skirt, brim)
         items = list(lp.ordered())
         if items:
             pos = items[-1][1][-1]
-        where = ov.where if ov is not None and ov.where is not None else (np.nan, np.nan)
-        held = (ov.overhang_area, ov.mid_air, len(ov.bridges), *where, ov.angle) if ov is not None \
-            else (0, 0, 0, np.nan, np.nan, 0.0)
+        held = OverhangSummary.of(ov)
         if plain:  # for the layer two above: the toolpaths as marked here and before marking
-            repeats.keep(k, at, below, (solid, top), (replace(lp, perimeters=None), unmarked, areas, held))
-        lp = replace(lp, z=float(z_tops[k - first]), perimeters=None)
-        lp.extruded_area()  # summed here, on all cores: the sums travel with the layer (its cached state)
-        out.append((k, lp, areas, held, ov.unheld if ov is not None else ()))
+            repeats.keep(k, at, below, (inputs.solid, inputs.top), (lp, unmarked, areas, held))
+        out.append(LayerResult(k, at_height(lp, z_tops[k - first]), areas, held,
+                               ov.unheld if ov is not None else ()))
     if state is not None:
         state.update(pos=pos, seam=seam, kept=dict(repeats.kept), below_solid=below_solid)
-    layers = [r[1] for r in out]
+    layers = [r.paths for r in out]
     texts = [None] * len(out) if layer_text is None else layer_text(first, layers, heights)
     drawings = [None] * len(out) if layer_drawing is None else layer_drawing(layers, extent)
-    return [(*r, t, d) for r, t, d in zip(out, texts, drawings)]
-
-
-def _areas(lp, raster, solid, s: PrintSettings) -> tuple[float, float, float, float]:
-    """Material area, area inside the last perimeter, its solid part (pixel counts, mm^2), and
-    the length of the sparse filling region's boundary (mm).
-
-    Counted on the distance fields' blocks: blocks deep inside count whole.
-    """
-    from ..geometry.blocks import FULL
-    from .grid.masks import bits_in_blocks
-    per = lp.perimeters
-    p = s.pixel_size
-    edge = sum(float(np.hypot(*(np.concatenate((r[1:], r[:1])) - r).T).sum())
-               for q in per.fill for r in (q.exterior, *q.holes))
-    total = inner = sol = 0.0
-    for f in per.fields:  # over tiles
-        g = f.grid.blocks
-        whole = g.n_full * g.size ** 2
-        region = f.grid.bits & (f.blocks >= s.n_perimeters * s.line_width)
-        total += np.count_nonzero(f.grid.bits) + whole
-        inner += np.count_nonzero(region) + whole
-        if solid is not None:
-            sol += np.count_nonzero(region & bits_in_blocks(solid, g.rows, g.cols, g.size))
-            fr, fc = np.nonzero(g.table == FULL)
-            sol += np.count_nonzero(bits_in_blocks(solid, fr + g.row0, fc + g.col0, g.size))
-    return total * p * p, inner * p * p, sol * p * p, edge
+    return [replace(r, text=t, drawing=d) for r, t, d in zip(out, texts, drawings)]
 
 
 def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | None = None,
@@ -402,7 +336,7 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
 
     See Also
     --------
-    slicelab.printing.steps.paths.layer_paths : one layer's toolpaths.
+    slicelab.printing.pipeline.layer_paths : one layer's toolpaths.
     slicelab.gcode.writer.write_gcode, slicelab.gcode.layer_svgs.write_svgs : the plan written out.
     slicelab.viz.layers.preview_png : a picture of some layers.
 
@@ -495,7 +429,7 @@ def _plan(mesh: Mesh, s: PrintSettings, sunk: float, *, workers, progress, layer
         for k0 in sorted(set(alike.values())):  # over the outlines of the steady stretches, few
             state = {}
             rows = _run_chunk(*job(k0, k0 + _START, None, None), state=state)
-            made[k0] = RunStart(tuple(r[1:5] for r in rows), state["pos"], state["seam"], state["kept"],
+            made[k0] = RunStart(tuple(rows), state["pos"], state["seam"], state["kept"],
                                 state["below_solid"])
 
     def may_need_starts(chunk):
@@ -534,25 +468,25 @@ def _plan(mesh: Mesh, s: PrintSettings, sunk: float, *, workers, progress, layer
                 a, b = futures[fut]
                 bar.update(b - a)
         bar.close()
-    results.sort(key=lambda r: r[0])
-    layers = [r[1] for r in results]
+    results.sort(key=lambda r: r.index)
+    layers = [r.paths for r in results]
     if not any(k not in ("skirt", "brim") for lp in layers for k in lp.kind):
         size = " x ".join(f"{v:.3g}" for v in hi - lo)
         raise ValueError(f"nothing to print: the part ({size} mm) is too thin for lines {s.line_width:g} mm "
                          f"wide, or it is a surface without volume")
-    areas = np.array([r[2] for r in results]).reshape(-1, 4)
-    overhangs = np.array([r[3] for r in results], np.float64).reshape(-1, 6)
+    areas = records([astuple(r.areas) for r in results], AREA_FIELDS)
+    overhangs = records([astuple(r.overhang) for r in results], OVERHANG_FIELDS)
     if s.support != "off":
-        layers = _with_supports(layers, sections, [r[4] for r in results], s)
+        layers = _with_supports(layers, sections, [r.unheld for r in results], s)
         # Support lines may reach a little past the footprint (drawn after planning: no layer is yet).
         pts = [q for lp in layers for q in lp.paths if len(q)]
         if pts:
             pts = np.concatenate(pts)
             extent = (*np.minimum(extent[:2], pts.min(axis=0)).tolist(), *np.maximum(extent[2:], pts.max(axis=0)).tolist())
-    texts = {r[0]: r[5] for r in results if r[5] is not None}
-    drawings = {r[0]: r[6] for r in results if r[6] is not None}
+    texts = {r.index: r.text for r in results if r.text is not None}
+    drawings = {r.index: r.drawing for r in results if r.drawing is not None}
     t2 = time.perf_counter()
-    return PrintPlan(s, layers, heights, offset, areas, float(np.sum(areas[:, 0] * heights)),
+    return PrintPlan(s, layers, heights, offset, areas, float(np.sum(areas["material"] * heights)),
                      {"slice": t1 - t0, "paths": t2 - t1}, overhangs, texts, extent, drawings, sunk)
 
 
@@ -571,7 +505,8 @@ def _warm_imports() -> None:
     from ..geometry.kernels import warm
     from .fill import lines  # noqa: F401  (the patterns load with the registry)
     from .grid import distance, raster  # noqa: F401
-    from .steps import overhangs, paths, perimeters, simplify, skins, skirt  # noqa: F401
+    from . import pipeline  # noqa: F401
+    from .steps import filling, order, overhangs, perimeters, simplify, skins, skirt  # noqa: F401
     warm()  # the compiled kernels, loaded (or compiled, once) before the workers fork
 
 

@@ -7,17 +7,16 @@ views of the table; writers (`slicelab.gcode.writer`, the SVGs and plots of
 
 See Also
 --------
-slicelab.printing.steps.paths.layer_paths : makes the table of a layer.
+slicelab.printing.pipeline.layer_paths : makes the table of a layer.
 slicelab.printing.roles : the kinds and roles, their G-code words and colours.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 from functools import cached_property
 
 import numpy as np
 
-from .steps.perimeters import Perimeters
 from .roles import KINDS, ROLE_OF
 
 __all__ = ["LayerPaths"]
@@ -50,8 +49,6 @@ class LayerPaths:
         Height of the section (NaN if not horizontal).
     thin_walls : int
         Islands too thin for one perimeter (printed as gap fill only).
-    perimeters : Perimeters
-        The perimeter stage's result (fields, regions), for plots.
     hang : tuple of (None or (k - 1,) bool ndarray)
         Per row, which of its segments lie over nothing (overhang perimeters,
         `slicelab.printing.steps.overhangs.mark_overhangs`); empty when none was marked.
@@ -61,7 +58,7 @@ class LayerPaths:
     >>> import slicelab
     >>> from slicelab.samples import box
     >>> s = slicelab.section(box((0, 0, 0), (10, 6, 1)), (0, 0, .5), (0, 0, 1))
-    >>> lp = slicelab.layer_paths(s, 0.4, 2, 1.0, pixel_size=0.1)
+    >>> lp = slicelab.layer_paths(s, slicelab.PrintSettings(infill_density=1.0, pixel_size=0.1))
     >>> lp.kind
     ('internal', 'external', 'sparse')
     >>> len(lp), [len(v) for v in (lp.external_contour_segments, lp.internal_contour_segments,
@@ -76,7 +73,6 @@ class LayerPaths:
     line_width: float
     z: float = float("nan")
     thin_walls: int = 0
-    perimeters: Perimeters | None = field(default=None, repr=False)
     hang: tuple = ()
 
     def __post_init__(self):

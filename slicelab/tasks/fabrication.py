@@ -332,7 +332,7 @@ def _slice_write(pp, inp, p, out):
 
 
 def _slice_report(pp, inp, p):
-    bridges = int(pp.overhangs[:, 2].sum()) if len(pp.overhangs) else 0
+    bridges = int(pp.overhangs["bridges"].sum())
     warnings = pp.warnings()
     r = inp.check
     if r.n_nonmanifold_edges:  # (sliced all the same: it is closed by winding number, `_slice_feasible`)

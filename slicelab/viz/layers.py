@@ -115,7 +115,7 @@ def plot_toolpath(paths, ax=None, *, cmap="viridis", lw: float = 1.0, travel: bo
     >>> import slicelab
     >>> from slicelab.samples import box
     >>> lp = slicelab.layer_paths(slicelab.section(box((0, 0, 0), (4, 3, 1)), (0, 0, .5), (0, 0, 1)),
-    ...                           pixel_size=0.1)
+    ...                           slicelab.PrintSettings(pixel_size=0.1))
     >>> ax = plot_toolpath(lp)
     """
     import matplotlib.pyplot as plt
@@ -156,11 +156,11 @@ def plot_coverage(paths, raster=None, ax=None, *, pixel_size: float | None = Non
     >>> import slicelab
     >>> from slicelab.samples import box
     >>> s = slicelab.section(box((0, 0, 0), (4, 3, 1)), (0, 0, .5), (0, 0, 1))
-    >>> ax = plot_coverage(slicelab.layer_paths(s, pixel_size=0.1), slicelab.rasterize(s, 0.1))
+    >>> ax = plot_coverage(slicelab.layer_paths(s, slicelab.PrintSettings(pixel_size=0.1)), slicelab.rasterize(s, 0.1))
     """
     from matplotlib.colors import ListedColormap
 
-    from ..printing.steps.paths import coverage_map
+    from ..printing.steps.coverage import coverage_map
     ax = _axes(ax)
     p = raster.pixel_size if raster is not None else (pixel_size or 0.1)
     counts, grid = coverage_map(paths, p)

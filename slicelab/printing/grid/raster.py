@@ -508,7 +508,7 @@ def draw_polylines(shape, row0: int, col0: int, pixel_size: float, polylines, wi
 
     See Also
     --------
-    slicelab.printing.steps.paths.covered_pixels : the exact coverage of one polyline.
+    slicelab.printing.steps.coverage.covered_pixels : the exact coverage of one polyline.
 
     Examples
     --------

@@ -7,7 +7,9 @@ ordering into paths, simplification.
 ``steps.skins``             top and bottom skins by mask differences
 ``steps.overhangs``         bridges, unheld overhangs and mid-air islands of a layer
 ``steps.skirt``             the first layer's skirt and brim
-``steps.paths``             `layer_paths`: one layer's ordered toolpaths, coverage
+``steps.filling``           the fill step: sparse, solid, top and bridge lines, gaps in solid filling
+``steps.order``             the order step: islands, loops from their seams, paths nearest first
+``steps.coverage``          how a layer's extrusions cover it
 ``steps.simplify``          Douglas-Peucker simplification of a layer's paths
 ==========================  =====================================================
 """

@@ -20,7 +20,7 @@ pixels.
 See Also
 --------
 slicelab.printing.planner.plan : runs it on every layer and reports what is not held.
-slicelab.printing.steps.paths.layer_paths : lays bridge lines across each bridge.
+slicelab.printing.pipeline.layer_paths : lays bridge lines across each bridge.
 
 References
 ----------

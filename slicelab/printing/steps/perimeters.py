@@ -19,7 +19,7 @@ the work follows the boundary, and pixels deep inside are never touched.
 See Also
 --------
 slicelab.printing.grid.distance : the distance field and its level sets.
-slicelab.printing.steps.paths : the perimeters, gap fill and filling in print order.
+slicelab.printing.pipeline : the perimeters, gap fill and filling in print order.
 """
 from __future__ import annotations
 
@@ -395,7 +395,7 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
     slicelab.printing.grid.distance.distance_field, slicelab.printing.grid.distance.level_rings : the levels' rings.
     perimeter_depth : how deep the distance field is computed.
     slicelab.printing.steps.gapfill.medial_fill_blocks : the gap fill.
-    slicelab.printing.steps.paths.layer_paths : the perimeters with filling, in print order.
+    slicelab.printing.pipeline.layer_paths : the perimeters with filling, in print order.
 
     Examples
     --------

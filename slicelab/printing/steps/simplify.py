@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["simplify_mask", "simplify_path", "simplify_paths", "simplify_rings"]
+__all__ = ["simplify_mask", "simplify_path", "simplify_paths", "simplify_rings", "simplify_rows"]
 
 
 def simplify_mask(points: np.ndarray, keep: np.ndarray, tolerance: float) -> np.ndarray:
@@ -143,3 +143,30 @@ def simplify_rings(rings: list, tolerance: float) -> list:
     """
     closed = [np.vstack([r, r[:1]]) for r in rings]
     return [q[:-1] for q in simplify_paths(closed, tolerance)]
+
+
+def simplify_rows(kinds: list, paths: list, widths: list, resolution: float) -> tuple[list, list]:
+    """The simplify step: each row of a layer's table simplified to `resolution` (its ends, seam and
+    corners kept, so the travel between paths is unchanged; gap fill keeps a width at each vertex).
+
+    Returns
+    -------
+    paths, widths : list
+
+    Examples
+    --------
+    >>> line = np.array([[0, 0], [1, 1e-4], [2, 0]], float)
+    >>> p, w = simplify_rows(["solid"], [line], [0.4], 0.01)
+    >>> p[0].tolist(), w
+    ([[0.0, 0.0], [2.0, 0.0]], [0.4])
+    """
+    gap = np.array([k == "gap_fill" for k in kinds], bool)
+    simple, widths = list(paths), list(widths)
+    rows = np.flatnonzero(~gap)
+    for i, q in zip(rows, simplify_paths([paths[i] for i in rows], resolution)):
+        simple[i] = q
+    rows = np.flatnonzero(gap)
+    got, gw = simplify_paths([paths[i] for i in rows], resolution, [widths[i] for i in rows])
+    for i, q, w in zip(rows, got, gw):
+        simple[i], widths[i] = q, w
+    return simple, widths

@@ -9,7 +9,7 @@ differences and the opening cost what the boundaries do.
 See Also
 --------
 slicelab.printing.planner.plan : finds every layer's skins this way.
-slicelab.printing.steps.paths.layer_paths : fills them solid (``solid``) and types the top surface (``top``).
+slicelab.printing.pipeline.layer_paths : fills them solid (``solid``) and types the top surface (``top``).
 """
 from __future__ import annotations
 

@@ -138,7 +138,7 @@ def with_skirt(paths, skirt: list, brim: list):
     >>> import slicelab
     >>> from slicelab.samples import box
     >>> s = slicelab.section(box((0, 0, 0), (10, 10, 1)), (0, 0, .5), (0, 0, 1))
-    >>> lp = with_skirt(slicelab.layer_paths(s, pixel_size=0.1), *skirt_loops(s, 0.4))
+    >>> lp = with_skirt(slicelab.layer_paths(s, slicelab.PrintSettings(pixel_size=0.1)), *skirt_loops(s, 0.4))
     >>> lp.kinds()[:3]
     ['skirt', 'internal', 'external']
     """
