@@ -120,7 +120,7 @@ def test_profile_batch_statuses_reasons_and_reports(folder, profile_run):
     rows = read_summary(out)
     assert [r["file"] for r in rows] == sorted(EXPECTED)
     assert {r["file"]: r["status"] for r in rows} == {k: v[0] for k, v in EXPECTED.items()}
-    assert float(next(r for r in rows if r["file"] == "pot.stl")["rim_diameter"]) == pytest.approx(97.6, rel=0.01)
+    assert float(next(r for r in rows if r["file"] == "pot.stl")["rim_diameter_mm"]) == pytest.approx(97.6, rel=0.01)
     assert not (out / ".hidden.stl.json").exists()
 
 
@@ -445,3 +445,23 @@ def test_a_cluster_with_no_worker_left_ends_with_a_clear_error(tmp_path, monkeyp
         assert time.time() - t0 < 60
     rows = read_summary(tmp_path / "out")
     assert [r["status"] for r in rows] == ["fail"] * 3 and all("no worker left" in r["messages"] for r in rows)
+
+
+def test_cli_batch_profile_outputs_can_be_left_out_and_none_stays_stale(tmp_path, capsys):
+    """DXF and CSV by default; --no-dxf --no-csv --no-png leave them out, and a rerun so takes away
+    the ones an earlier run wrote (they would no longer match the report)."""
+    scans, out = tmp_path / "scans", tmp_path / "out"
+    slicelab.save(samples.pot(30, 36), scans / "pot.stl")
+    args = ["batch", str(scans), "-o", str(out), "--task", "profile", "--planes", "2", "--workers", "1",
+            "--no-progress"]
+    assert main(args) == 0
+    assert "rim_diameters.png" in capsys.readouterr().out
+    assert sorted(p.name for p in (out / "pot.stl").iterdir() if p.name[0] != ".") == \
+        ["profile.csv", "profile.dxf", "profile.json", "profile.png", "profile.svg"]
+    assert main(args + ["--no-dxf", "--no-csv", "--no-png"]) == 0
+    assert sorted(p.name for p in (out / "pot.stl").iterdir() if p.name[0] != ".") == ["profile.json", "profile.svg"]
+    assert sorted(json.loads((out / "pot.stl.json").read_text())["outputs"]) == ["json", "svg"]
+    capsys.readouterr()
+    assert main(["batch", str(scans), "-o", str(out), "--task", "section", "--no-dxf"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "dxf" in err

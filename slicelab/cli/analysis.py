@@ -39,7 +39,9 @@ DOCS = {
     "profile": {
         "help": 'align a scanned vessel and draw its profile with measurements',
         "description": 'Align FILE on its axis of revolution, cut it through the axis at --planes angles, write '
-                       'the archaeological profile drawing (SVG, 1:1 in mm) and print the measurements.',
+                       'the archaeological profile drawing (SVG, 1:1 in mm; also PNG, and DXF for CAD with a layer '
+                       'per surface, breaks and the axis) and the outline points (CSV), and print the '
+                       'measurements.',
     },
     "batch": {
         "help": 'run one task over every mesh file (STL, PLY, OBJ, 3MF) under a folder (resumable)',
@@ -49,8 +51,12 @@ DOCS = {
                        'OUT/pot.stl.json; the same file names as the command of the same name writes; names that '
                        'would clash, even by case only, get a suffix ~2), and OUT/summary.csv. A file that is not '
                        'a regular file (a named pipe, a device) is reported, never read. Files whose report is up '
-                       'to date are skipped. Runs on local processes, or on a Dask cluster given --scheduler '
-                       "(pip install 'slicelab[cluster]').",
+                       'to date are skipped. Every number in summary.csv has its unit in its column name; for '
+                       '--task profile it is an EVE table (kind, span, rim EVE, rim diameter and its uncertainty, '
+                       'axis trusted, up from) with a rim-diameter chart weighted by rim EVE beside it '
+                       '(rim_diameters.png, its numbers in rim_diameters.csv). Runs on local processes, or on a '
+                       "Dask cluster given --scheduler (pip install 'slicelab[cluster]'); the numbers are the same "
+                       'on either, whatever the thread count.',
     },
 }
 
@@ -145,6 +151,11 @@ def _add_profile(sub) -> None:
     p.add_argument("--png", dest="png_path", type=Path, metavar="OUT.png", help="also write the drawing as a PNG")
     p.add_argument("--json", dest="json_path", type=Path, metavar="OUT.json",
                    help="also write measurements and outlines as JSON")
+    p.add_argument("--dxf", dest="dxf_path", type=Path, metavar="OUT.dxf",
+                   help="also write the section as DXF (mm, in the (r, z) plane; layers SECTION, EXTERIOR, "
+                        "INTERIOR, RIM, BREAKS, AXIS, APPENDAGE...)")
+    p.add_argument("--csv", dest="csv_path", type=Path, metavar="OUT.csv",
+                   help="also write every half-section's outline points as CSV (r_mm, z_mm, surface)")
     p.add_argument("--planes", type=int, default=GIVEN, metavar="N",
                    help=f"planes through the axis (default {default('profile', 'planes')})")
     p.add_argument("--side", choices=("left", "right"), default=GIVEN,
@@ -157,9 +168,11 @@ def _add_profile(sub) -> None:
 
 
 def _run_profile(args) -> int:
-    params = options(args, "profile", png=args.png_path is not None, json=args.json_path is not None)
+    params = options(args, "profile", png=args.png_path is not None, json=args.json_path is not None,
+                     dxf=args.dxf_path is not None, csv=args.csv_path is not None)
     r = run_job("profile", args.file, params,
-                paths={"svg": args.output, "png": args.png_path, "json": args.json_path})
+                paths={"svg": args.output, "png": args.png_path, "json": args.json_path, "dxf": args.dxf_path,
+                       "csv": args.csv_path})
     p = r.value
     if p.alignment is not None:
         print(f"{args.file}: {r.n_facets} facets; {p.alignment!r}")
@@ -167,8 +180,10 @@ def _run_profile(args) -> int:
         print(p.sherd.sentence())
     print(p.measurements)
     t = r.timings
+    written = ", ".join(str(x) for x in (args.output, args.png_path, args.json_path, args.dxf_path, args.csv_path)
+                        if x is not None)
     print(f"load {t['load']:.2f} s, align + profile {t['compute']:.2f} s, drawing {t['write']:.2f} s; "
-          f"wrote {args.output}")
+          f"wrote {written}")
     warn(r)
     return 0
 
@@ -181,6 +196,8 @@ _BATCH_OPTIONS = [
     ("--planes", dict(type=int, metavar="N", help="profile: planes through the axis")),
     ("--side", dict(choices=("left", "right"), help="profile: side of the section")),
     ("--no-png", dict(dest="png", action="store_false", help="profile: no PNG")),
+    ("--no-dxf", dict(dest="dxf", action="store_false", help="profile: no DXF")),
+    ("--no-csv", dict(dest="csv", action="store_false", help="profile: no CSV of the outline points")),
     ("--no-preview", dict(dest="preview", action="store_false", help="split: no preview.png")),
     ("--max-gap", dict(type=float, metavar="MM", help="join open chains this close")),
     ("--min-size", dict(type=float, metavar="MM", help="flag parts smaller than this as implausible (default 2 mm)")),
@@ -243,7 +260,7 @@ def _run_batch(args) -> int:
     for rep in result.reports:
         if rep["status"] != "ok":
             print(f"  {rep['status']:<4} {rep['file']}: {'; '.join(r['message'] for r in rep['reasons'])}")
-    print(f"wrote {result.summary}")
+    print(f"wrote {', '.join(str(x) for x in (result.summary, *result.files.values()))}")
     return 1 if result.count("fail") else 0
 
 

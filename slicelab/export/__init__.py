@@ -4,6 +4,7 @@
 ``export.files``            `atomic_path`, `atomic_open`: no half-written file
 ``export.meshes``           `write_mesh`: STL whose report is the check of the file
 ``export.svg``              `SvgDrawing`: the one SVG writer of every drawing
+``export.profile_files``     a vessel's profile as DXF (CAD) and CSV (GIS, spreadsheets)
 ==========================  =====================================================
 """
 from __future__ import annotations

@@ -8,6 +8,8 @@
 ``tasks.plates``            build plates written: one STL each, placements, top views
 ``tasks.executors``         `run_jobs`: in this process, local processes or Dask
 ``tasks.outputs``           each batch input's own output folder and report name
+``tasks.threads``           BLAS and OpenMP held to one thread: the same numbers on any machine
+``tasks.summary``           a batch's summary.csv (units in every column) and rim-diameter chart
 ``tasks.batch``             `run_batch` over a folder: reports, summary, resuming
 ==========================  =====================================================
 """

@@ -1,7 +1,9 @@
 """Batch runs: one job over every mesh file under a folder, locally or on a Dask cluster.
 
 Every file gets a JSON report (input SHA-256, parameters, outputs, timings,
-status ok / warn / fail and the reasons) and a row in ``summary.csv``; its
+status ok / warn / fail and the reasons) and a row in ``summary.csv`` (units in
+the column names; for profiles an EVE table beside a rim-diameter chart,
+`slicelab.tasks.summary`); its
 outputs go to a folder of their own named after it, extension kept, under
 the job's own file names (the same as on the command line: ``pot.stl`` ->
 ``OUT/pot.stl.json`` and ``OUT/pot.stl/section.svg``; names that would
@@ -20,7 +22,6 @@ client writes the reports, so a worker lost mid-file still leaves a report.
 from __future__ import annotations
 
 import contextlib
-import csv
 import fnmatch
 import hashlib
 import json
@@ -43,6 +44,7 @@ from .limits import likely_units
 from .jobs import JOBS, TASKS, job_parameters, run_job
 from .outputs import output_names
 from .spec import ParameterError, choice, number, plain, reason
+from .summary import write_batch_files, write_summary
 
 __all__ = ["TASKS", "BatchResult", "task_parameters", "find_mesh_files", "process_file", "run_batch",
            "write_summary"]
@@ -326,54 +328,6 @@ def _write_report(out: Path, name: str, rep: dict) -> None:
         fh.write("\n")
 
 
-def _fmt(v) -> str:
-    if v is None:
-        return ""
-    if isinstance(v, bool):
-        return "yes" if v else "no"
-    if isinstance(v, float):
-        return f"{v:.10g}"
-    return str(v)
-
-
-def write_summary(out, reports: list[dict], task: str, names: dict | None = None) -> Path:
-    """Write ``summary.csv``: one row per file, in file order, no timings (reruns give the same file).
-
-    `names` maps each report's file to its name under `out` (default:
-    `slicelab.tasks.outputs.output_names` of the reports' files); the column
-    ``report`` gives each report's path.
-
-    Examples
-    --------
-    >>> import tempfile
-    >>> p = write_summary(tempfile.mkdtemp(), [], "inspect")
-    >>> p.read_text().splitlines()[0].split(",")[:3]
-    ['file', 'status', 'reasons']
-    """
-    cols = ["file", "status", "reasons", "messages", "sha256", "facets", "watertight", "shells",
-            "size_x", "size_y", "size_z", "volume", *JOBS[task].columns, "report"]
-    path = Path(out) / "summary.csv"
-    names = names if names is not None else output_names(r["file"] for r in reports)
-    with atomic_open(path, "w", encoding="utf-8", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(cols)
-        for rep in sorted(reports, key=lambda r: r["file"]):
-            chk = rep.get("check") or {}
-            res = rep.get("results") or {}
-            lo, hi = chk.get("bounds") or (None, None)
-            size = [hi[k] - lo[k] for k in range(3)] if lo is not None else [None] * 3
-            row = {"file": rep["file"], "status": rep["status"],
-                   "reasons": ";".join(r["code"] for r in rep["reasons"]),
-                   "messages": "; ".join(r["message"] for r in rep["reasons"]),
-                   "sha256": (rep.get("input") or {}).get("sha256"), "facets": chk.get("n_facets"),
-                   "watertight": chk.get("watertight"), "shells": chk.get("n_shells"),
-                   "size_x": size[0], "size_y": size[1], "size_z": size[2], "volume": chk.get("volume"),
-                   "report": f"{names[rep['file']]}.json"}
-            row.update({c: res.get(c) for c in JOBS[task].columns})
-            w.writerow([_fmt(row[c]) for c in cols])
-    return path
-
-
 @dataclass(frozen=True)
 class BatchResult:
     """What a batch did.
@@ -387,7 +341,11 @@ class BatchResult:
     ignored : int
         Files under DIR that are not mesh files (by their endings).
     summary : Path
+        ``summary.csv`` (`slicelab.tasks.summary`).
     seconds : float
+    files : dict
+        The batch's other files beside the summary: for the profile task ``chart``
+        (``rim_diameters.png``) and ``chart_data`` (``rim_diameters.csv``).
     """
 
     reports: list = field(default_factory=list)
@@ -396,6 +354,7 @@ class BatchResult:
     ignored: int = 0
     summary: Path | None = None
     seconds: float = 0.0
+    files: dict = field(default_factory=dict)
 
     def count(self, status: str) -> int:
         """Files with this status."""
@@ -411,7 +370,8 @@ class BatchResult:
 # jobs' libraries (mesh and slicing load whole; artefacts loads by name) and their drawing.
 _PRELOAD = ["slicelab.tasks.batch", "slicelab.mesh", "slicelab.slicing", "slicelab.artefacts.profiles",
             "slicelab.artefacts.drawing", "slicelab.viz.profile", "slicelab.viz.preview", "scipy.spatial",
-            "matplotlib.figure", "matplotlib.backends.backend_agg"]
+            "matplotlib.figure", "matplotlib.backends.backend_agg", "slicelab.tasks.threads", "threadpoolctl",
+            "slicelab.export.profile_files", "ezdxf"]
 
 
 def run_batch(root, out, task: str = "inspect", params: dict | None = None, *, workers: int | None = None,
@@ -429,7 +389,10 @@ def run_batch(root, out, task: str = "inspect", params: dict | None = None, *, w
         ``pot.stl.json`` and a folder ``pot.stl/`` of the job's outputs (the
         same file names as on the command line), extension kept, with a
         suffix (``~2``) for names that would clash, even if only by case
-        (`slicelab.tasks.outputs.output_names`); and ``summary.csv``.
+        (`slicelab.tasks.outputs.output_names`); and ``summary.csv`` (every number's unit in its
+        column's name; for the profile task an EVE table), with, for the profile task, the
+        rim-diameter chart ``rim_diameters.png`` and its numbers ``rim_diameters.csv``
+        (`slicelab.tasks.summary`).
     task : {"inspect", "section", "split", "profile", "layers"}
     params : dict, optional
         From `task_parameters` (checked again here; defaults for `task` if omitted).
@@ -517,7 +480,8 @@ def run_batch(root, out, task: str = "inspect", params: dict | None = None, *, w
         bar.close()
         ordered = [reports[k] for k in sorted(reports)]
         summary = write_summary(out, ordered, task, names)
+        extra = write_batch_files(out, ordered, task, names)
     ran = len(jobs) + len(refused)
-    return BatchResult(ordered, ran, len(files) - ran, ignored, summary, time.perf_counter() - t0)
+    return BatchResult(ordered, ran, len(files) - ran, ignored, summary, time.perf_counter() - t0, extra)
 
 

@@ -9,7 +9,8 @@ job             parameters (defaults)                           outputs
 ``split``       plane, max_gap, visible_from, preview (True)    ``front.stl``, ``rear.stl``,
                                                                 ``section.svg``, ``preview.png``
 ``profile``     planes (12), side, spread, align, max_gap,      ``profile.svg``, ``profile.png``,
-                png (True), json (True)                         ``profile.json``
+                png, json, dxf, csv (True)                      ``profile.json``, ``profile.dxf``,
+                                                                ``profile.csv``
 ``cut``         plane, preview (True)                           ``rear.stl``, ``front.stl``, ``exploded.png``
 ``partition``   volume, joint, clearance, step, flight,         ``part_NNN.stl``, ``parts.json``,
                 rotate, preview                                 ``exploded.png``
@@ -49,6 +50,7 @@ from .spec import (
     whole,
 )
 from .spec import plane as plane_value
+from .threads import pinned
 
 __all__ = ["JOBS", "TASKS", "SUFFIXES", "job_parameters", "run_job", "check_output_dir", "check_outputs"]
 
@@ -219,19 +221,25 @@ SPLIT = Job(
 
 # --------------------------------------------------------------------- profile
 def _profile_parameters(planes: int = 12, side: str = "left", spread: bool = False, align: bool = True,
-                        max_gap: float = 1.0, png: bool = True, json: bool = True) -> dict:
+                        max_gap: float = 1.0, png: bool = True, json: bool = True, dxf: bool = True,
+                        csv: bool = True) -> dict:
     """planes through the axis; side of the drawn section; spread: other halves in grey;
-    align: turn the vessel onto its axis first; png, json: also write these."""
+    align: turn the vessel onto its axis first; png, json, dxf, csv: also write these."""
     return {"planes": whole("planes", planes, low=1), "side": choice("side", side, ("left", "right")),
             "spread": bool(spread), "align": bool(align), "max_gap": _gap(max_gap), "png": bool(png),
-            "json": bool(json)}
+            "json": bool(json), "dxf": bool(dxf), "csv": bool(csv)}
 
 
+# The profile's sums run on one BLAS thread whatever the environment says (`slicelab.tasks.threads`):
+# its numbers are then the same in a terminal, a local pool and on Dask. Its drawing and report
+# compute too (the handles, the ovality), so they are pinned as well.
+@pinned
 def _profile_compute(inp, p):
     from ..artefacts import profile
     return profile(inp.mesh, planes=p["planes"], align=p["align"], max_gap=p["max_gap"], name=inp.path.name)
 
 
+@pinned
 def _profile_write(pr, inp, p, out):
     pr.to_svg(out.path("svg"), side=p["side"], spread=p["spread"])
     if p["png"]:
@@ -239,8 +247,46 @@ def _profile_write(pr, inp, p, out):
     if p["json"]:
         with atomic_open(out.path("json"), "w", encoding="utf-8") as fh:
             json.dump(pr.to_dict(), fh)
+    if p["dxf"] or p["csv"]:
+        from ..export.profile_files import profile_csv, profile_dxf
+        if p["dxf"]:
+            profile_dxf(pr, out.path("dxf"))
+        if p["csv"]:
+            profile_csv(pr, out.path("csv"))
 
 
+def _eve(pr) -> dict:
+    """What an EVE table needs of a profile: the piece's kind, its rim and base as shares of a whole
+    vessel's (estimated vessel equivalents: a whole vessel is 1), the rim diameter's uncertainty, and
+    how far its axis and its stance can be trusted. The sherd's report may hold more than older
+    versions of it did (`rim_diameter_sd`, `base_fraction`, `up_confidence`, `kind_confidence`,
+    `axis_confidence`), and
+    the profile whether it is `fragmentary`: each is read where it is, None where not."""
+    import math
+
+    from ..artefacts.drawing import orientation_uncertain
+    sherd, m = pr.sherd, pr.measurements
+
+    def got(x, name):
+        v = getattr(x, name, None)
+        return None if v is None or (isinstance(v, float) and not math.isfinite(v)) else v
+    if sherd is None:
+        # A whole vessel: the full turn (the alignment's span is counted in bins, a little under).
+        eve = {"kind": "whole", "span": 360.0, "rim_eve": 1.0 if math.isfinite(m.rim_diameter) else None,
+               "base_eve": 1.0, "rim_diameter_sd": None, "axis_trusted": pr.is_revolution, "axis_spread": None}
+    else:
+        base = got(sherd, "base_fraction")
+        eve = {"kind": sherd.kind, "rim_eve": got(sherd, "rim_fraction") if sherd.kind == "rim" else None,
+               "base_eve": base if sherd.kind == "base" else None, "rim_diameter_sd": got(sherd, "rim_diameter_sd"),
+               "axis_trusted": bool(sherd.axis_trusted), "axis_spread": got(sherd, "axis_spread")}
+    cue = sherd if sherd is not None else pr.alignment
+    eve.update(up_confidence=got(cue, "up_confidence"), kind_confidence=got(cue, "kind_confidence"),
+               axis_confidence=got(cue, "axis_confidence"), orientation_uncertain=orientation_uncertain(pr),
+               fragmentary=got(pr, "fragmentary"))
+    return eve
+
+
+@pinned
 def _profile_report(pr, inp, p):
     """Results (NaN left as None by `plain`) and the warnings, each naming its cause."""
     import math
@@ -252,7 +298,7 @@ def _profile_report(pr, inp, p):
                "span": None if a is None else a.span, "ovality": pr.ovality, "rim_drop": pr.rim_drop,
                "appendage_angle": pr.appendage_angle, "appendages": [x.to_dict() for x in pr.appendages],
                "sealed": pr.sealed, "closed_gap": pr.closed_gap,
-               "sherd": None if pr.sherd is None else pr.sherd.to_dict()}
+               "sherd": None if pr.sherd is None else pr.sherd.to_dict(), **_eve(pr)}
     reasons = []
     sherd = pr.sherd
     if sherd is not None:
@@ -261,6 +307,11 @@ def _profile_report(pr, inp, p):
         if sherd.up_from == "unknown":
             reasons.append(reason("upside_down_risk", "no rim and no base on the sherd: which way is up is "
                                                       "a guess, and the drawing may stand on its head"))
+        # The sherd's own doubts (its kind, which end is the lip, its axis, its rim diameter), each with
+        # its code, where its report says them; a stance already said to be a guess is not said twice.
+        for code, sentence in getattr(sherd, "cautions", list)():
+            if not (code == "up_uncertain" and sherd.up_from == "unknown"):
+                reasons.append(reason(code, sentence))
     elif a is not None and a.up_from == "centre of mass":
         reasons.append(reason("upside_down_risk", "neither a base crossing the axis nor an open rim was found: "
                                                   "up was taken from the centre of mass"))
@@ -309,12 +360,19 @@ _NOISY_MM = 0.075     # vertex noise (mm) above which a scan is reported noisy
 
 
 PROFILE = Job(
-    "profile", "align a vessel on its axis; draw its profile (SVG, PNG) and measure it (JSON)",
-    _profile_parameters, {"svg": "profile.svg", "png": "profile.png", "json": "profile.json"},
+    "profile", "align a vessel on its axis; draw its profile (SVG, PNG, DXF), measure it (JSON) and list its "
+               "outline (CSV)",
+    _profile_parameters, {"svg": "profile.svg", "png": "profile.png", "json": "profile.json",
+                          "dxf": "profile.dxf", "csv": "profile.csv"},
     _profile_compute, _profile_write, _profile_report, feasible=lambda inp, p: check_planes(p["planes"]),
-    columns=("height", "rim_diameter", "max_diameter", "base_diameter", "wall_thickness_min",
+    # An EVE table: what the piece is, how much of a vessel it stands for and how far it can be
+    # trusted, then the measurements (`slicelab.tasks.summary` gives each its unit).
+    columns=("kind", "span", "rim_eve", "rim_diameter", "rim_diameter_sd", "base_eve", "axis_trusted",
+             "axis_spread", "axis_confidence", "up_from", "up_confidence", "kind_confidence",
+             "orientation_uncertain",
+             "fragmentary", "height", "max_diameter", "base_diameter", "wall_thickness_min",
              "wall_thickness_mean", "wall_thickness_max", "base_thickness", "capacity", "clay_volume",
-             "relative_residual", "spread"),
+             "residual", "relative_residual", "spread", "ovality", "noise", "appendages", "sealed"),
 )
 
 JOBS = {job.name: job for job in (INSPECT, SECTION, LAYERS, SPLIT, PROFILE, CUT, PARTITION, SLICE)}

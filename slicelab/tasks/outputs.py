@@ -19,7 +19,7 @@ from pathlib import PurePosixPath
 __all__ = ["RESERVED", "output_names"]
 
 #: Names the batch itself writes at the top of OUT.
-RESERVED = ("summary.csv",)  # casefolded
+RESERVED = ("summary.csv", "rim_diameters.png", "rim_diameters.csv")  # casefolded
 
 
 def output_names(files) -> dict[str, str]:
