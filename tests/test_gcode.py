@@ -625,3 +625,28 @@ def test_triangle_infill_lays_three_directions_meeting_in_a_grid():
     p = np.linalg.solve(np.stack([normals[0.0], normals[60.0]]), [6.0 * 2, 6.0 * 1])
     offset = p @ normals[120.0] / 6.0
     assert abs(offset - round(offset)) < 1e-9
+
+
+def test_aligned_seams_run_straight_up_across_runs_of_layers_and_hide_in_concave_corners():
+    # Two tubes and an L-shaped prism, 45 layers: the planner restarts the nozzle at every run of
+    # 20 layers (layers 20 and 40 start runs), and the seams, found by one pass up the whole part
+    # before planning, do not jog there. The L's seam sits in its concave corner.
+    from slicelab.samples import concat, ring_prism, voxels
+    occ = np.zeros((2, 2, 1), bool)
+    occ[0, :, 0] = occ[1, 0, 0] = True
+    ell = voxels(occ, (5.0, 5.0, 9.0))  # an L: 10 x 10 less the square (5..10, 5..10)
+    t = np.linspace(0, 2 * np.pi, 64, endpoint=False)
+    circle = np.c_[np.cos(t), np.sin(t)]
+    part = concat(ell, ring_prism(circle * 4 + [20, 5], circle * 2 + [20, 5], 0, 9),
+                  ring_prism(circle * 3 + [32, 5], circle * 1.5 + [32, 5], 0, 9))
+    s = PrintSettings(**{**FAST, "layer_height": 0.2, "first_layer_height": 0.2})
+    pp = plan(part, s, workers=1)
+    seams = [np.array([q[0] for kind, q, _ in lp.rows({"external"})]) for lp in pp.layers]
+    assert len(pp.layers) == 45 and all(len(x) == 3 for x in seams)
+    for k in range(1, 45):  # every seam within 0.1 mm of one of the layer below
+        d = np.hypot(*(seams[k][:, None, :] - seams[k - 1][None, :, :]).transpose(2, 0, 1)).min(axis=1)
+        assert d.max() < 0.1, (k, d)
+    # The L's seam (the leftmost): on the arc the outer perimeter makes round the notch's corner
+    # (5, 5), half a line from it.
+    ell_seams = np.array([x[np.argmin(x[:, 0])] for x in seams])
+    assert np.abs(np.hypot(*(ell_seams - [5.0, 5.0]).T) - s.line_width / 2).max() < 0.01

@@ -146,7 +146,8 @@ def same_point(a, b, tolerance: float = 0.0) -> bool:
     """
     if a is None or b is None:
         return a is None and b is None
-    return bool(np.all(np.abs(np.asarray(a, np.float64) - np.asarray(b, np.float64)) <= tolerance))
+    a, b = np.asarray(a, np.float64), np.asarray(b, np.float64)
+    return a.shape == b.shape and bool(np.all(np.abs(a - b) <= tolerance))
 
 
 def same_mask(a, b) -> bool:
@@ -275,9 +276,9 @@ class RunStart:
     Attributes
     ----------
     layers : tuple
-        Each layer's (toolpaths, areas, overhang summary, unheld pixels), as the planner makes them.
-    pos, seam : ndarray or None
-        The nozzle's position and the seam after the last of them.
+        Each layer's `slicelab.printing.pipeline.LayerResult`, as the planner makes it.
+    pos : ndarray or None
+        The nozzle's position after the last of them.
     kept : dict
         What `Repeats` keeps after them (the layers two above take from it).
     below_solid : mask or None
@@ -286,7 +287,6 @@ class RunStart:
 
     layers: tuple
     pos: object
-    seam: object
     kept: dict
     below_solid: object = None
 

@@ -30,7 +30,7 @@ import numpy as np
 from ..mesh.core import Mesh
 from .config.bed import check_bed, footprint_extent
 from .fill import PATTERNS
-from ._reuse import RunStart
+from ._reuse import RunStart, same_point
 from .config.settings import PrintSettings
 from .pipeline import AREA_FIELDS, OVERHANG_FIELDS, records
 
@@ -206,7 +206,7 @@ _GROUP = 5  # runs per call at most: a worker's call holds the rasters of its la
 
 def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, s: PrintSettings,
                layer_text=None, heights=None, layer_drawing=None, extent=None, repeat_tolerance: float = 1e-9,
-               starts: dict | None = None, state: dict | None = None) -> list:
+               starts: dict | None = None, seams=None, state: dict | None = None) -> list:
     """The `LayerResult` of layers first..stop-1 of n (with, given `layer_text` and `layer_drawing`,
     their text and drawings: see `plan`).
 
@@ -219,9 +219,11 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     memo (`slicelab.printing._reuse.Repeats`): a layer of a prismatic stretch takes what the
     layer two below made when all it depends on is the same (outlines within `repeat_tolerance`
     mm), within a run of layers; a run that starts as an earlier one did takes its first layers
-    from `starts` (run start -> `RunStart`). Everything comes as arguments: a pool's worker needs
-    no state from the parent. `state`, if given, receives the nozzle's position, the seam, what
-    the memo keeps and the solid skin after the last layer.
+    from `starts` (run start -> `RunStart`). `seams` are the seam points of these layers
+    (`slicelab.printing.seams.seam_targets`, None where loops start nearest the nozzle or at the
+    rear). Everything comes as arguments: a pool's worker needs no state from the parent.
+    `state`, if given, receives the nozzle's position, what the memo keeps and the solid skin
+    after the last layer.
     """
     from ._reuse import Repeats
     from .pipeline import LayerResult, LayerWindow, OverhangSummary, at_height, finish_layer, layer_inputs, plan_layer
@@ -239,22 +241,21 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
     for k in range(first, stop):  # over layers
         if k < resume:
             continue
-        if k == first or k % _RUN == 0:  # a run starts: the nozzle, and the seam below (aligned seams)
-            pos = seam = None
+        seam = seams[k - first] if seams is not None else None
+        if k == first or k % _RUN == 0:  # a run starts: the nozzle afresh
+            pos = None
             repeats.clear()
             alike = starts.get(k) if starts else None
             if alike is not None:  # a run that starts as an earlier one: what it made, at these heights
                 for i, r in enumerate(alike.layers):
                     out.append(replace(r, index=k + i, paths=at_height(r.paths, z_tops[k + i - first])))
-                pos, seam, below_solid = alike.pos, alike.seam, alike.below_solid
+                pos, below_solid = alike.pos, alike.below_solid
                 repeats.kept.update(alike.kept)
                 resume = k + len(alike.layers)
                 continue
         taken = repeats.take(k, pos, seam)  # (a steady layer: before its raster and skins)
         if taken is not None:  # the layer two below again: the same toolpaths, at this height
             lp, _, areas, held = taken
-            outer = [q for kind, q, _ in lp.rows({"external"})]
-            seam = outer[0][0] if outer else seam
             items = list(lp.ordered())
             pos = items[-1][1][-1] if items else pos
             below_solid = None
@@ -281,9 +282,6 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
             planned = plan_layer(window[k], s, inputs, start=pos, seam=seam)
             lp, areas = planned.paths, planned.areas
         unmarked = lp
-        outer = [q for kind, q, _ in lp.rows({"external"})]
-        if outer:
-            seam = outer[0][0]
         lp = finish_layer(k, grid, s, lp, skirt, brim)
         items = list(lp.ordered())
         if items:
@@ -294,7 +292,7 @@ def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, 
         out.append(LayerResult(k, at_height(lp, z_tops[k - first]), areas, held,
                                ov.unheld if ov is not None else ()))
     if state is not None:
-        state.update(pos=pos, seam=seam, kept=dict(repeats.kept), below_solid=below_solid)
+        state.update(pos=pos, kept=dict(repeats.kept), below_solid=below_solid)
     layers = [r.paths for r in out]
     texts = [None] * len(out) if layer_text is None else layer_text(first, layers, heights)
     drawings = [None] * len(out) if layer_drawing is None else layer_drawing(layers, extent)
@@ -401,6 +399,9 @@ def _plan(mesh: Mesh, s: PrintSettings, sunk: float, *, workers, progress, layer
     text = None if layer_text is None or s.support != "off" else partial(layer_text, settings=s, offset=offset)
     drawing = None if s.support != "off" else layer_drawing
     extent = footprint_extent(lo[:2], hi[:2], sections[0], s)
+    # Seams: one pass up the whole part before any layer is planned (`slicelab.printing.seams`).
+    from .seams import seam_targets
+    seams = seam_targets(sections) if s.seam_position == "aligned" else [None] * n
     # Layers of a prism differ by the float32 rounding of the file's coordinates (walls lean by it).
     from ..mesh.repairs import default_tolerance
     tol = default_tolerance(mesh)
@@ -421,16 +422,18 @@ def _plan(mesh: Mesh, s: PrintSettings, sunk: float, *, workers, progress, layer
         lo, hi = max(0, a - s.bottom_layers - 1), min(n, b + s.top_layers)  # (the skins of a - 1 too)
         starts = {k: made[alike[k]] for k in range(a, b) if k in alike and alike[k] in made}
         return (a, b, n, {j: sections[j] for j in range(lo, hi)}, z_tops[a:b], s, text, heights[a:b], drawing,
-                extent, tol, starts)
+                extent, tol, starts, seams[a:b])
 
     def make_starts():
         if maybe:
-            alike.update(run_starts(dict(enumerate(sections)), n, reach, tol, _RUN, _START, sorted(maybe)))
+            found = run_starts(dict(enumerate(sections)), n, reach, tol, _RUN, _START, sorted(maybe))
+            # (and the same seams: the pass up the part found them at the same places)
+            alike.update({k: k0 for k, k0 in found.items()
+                          if all(same_point(seams[k + i], seams[k0 + i], tol) for i in range(_START))})
         for k0 in sorted(set(alike.values())):  # over the outlines of the steady stretches, few
             state = {}
             rows = _run_chunk(*job(k0, k0 + _START, None, None), state=state)
-            made[k0] = RunStart(tuple(rows), state["pos"], state["seam"], state["kept"],
-                                state["below_solid"])
+            made[k0] = RunStart(tuple(rows), state["pos"], state["kept"], state["below_solid"])
 
     def may_need_starts(chunk):
         return any(k in maybe for k in range(chunk[0], chunk[1], _RUN))

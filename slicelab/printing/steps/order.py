@@ -16,6 +16,7 @@ import numpy as np
 
 from ...geometry.polygons import points_in_ring, signed_area
 from ..roles import ISLAND_ROLES
+from ..seams import SNAP, concave_corners
 
 __all__ = ["SEAMS", "order_step"]
 
@@ -27,13 +28,51 @@ SEAMS = ("nearest", "rear", "aligned")
 def _closed_from(ring: np.ndarray, pos: np.ndarray, seam: str = "nearest", seam_point=None) -> np.ndarray:
     """The ring as a closed polyline starting at its seam vertex (`SEAMS`)."""
     if seam == "aligned" and seam_point is not None:
-        k = int(np.argmin(np.hypot(*(ring - np.asarray(seam_point)).T)))
+        ring, k = _with_seam(ring, np.asarray(seam_point, np.float64).reshape(-1, 2))
     elif seam in ("rear", "aligned"):
         back = np.flatnonzero(ring[:, 1] >= ring[:, 1].max() - 1e-9)
         k = int(back[np.argmin(ring[back, 0])])  # the rearmost, then leftmost
     else:
         k = int(np.argmin(np.hypot(*(ring - pos).T)))
     return np.concatenate((ring[k:], ring[:k + 1]))
+
+
+def _with_seam(ring: np.ndarray, targets: np.ndarray) -> tuple[np.ndarray, int]:
+    """The ring with a vertex at its point nearest any of the seam points (one per loop of the
+    section, `slicelab.printing.seams.seam_targets`), and that vertex's index: on an edge, not at
+    the nearest vertex, so that seams a vertex's spacing apart along a smooth wall do not jog;
+    or the ring's concave corner within `slicelab.printing.seams.SNAP` of that point.
+
+    Examples
+    --------
+    >>> sq = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
+    >>> r, k = _with_seam(sq, np.array([[2.0, 5.0]]))
+    >>> r[k].tolist(), len(r)
+    ([2.0, 4.0], 5)
+    """
+    a = ring
+    b = np.roll(ring, -1, axis=0)
+    ab = b - a
+    l2 = np.maximum(np.einsum("ij,ij->i", ab, ab), 1e-300)
+    # Each target's nearest point on each edge: (targets, edges).
+    t = np.clip(np.einsum("tej,ej->te", targets[:, None, :] - a[None, :, :], ab) / l2, 0.0, 1.0)
+    foot = a[None, :, :] + t[..., None] * ab[None, :, :]
+    d = np.hypot(*(foot - targets[:, None, :]).transpose(2, 0, 1))
+    i, e = np.unravel_index(int(np.argmin(d)), d.shape)
+    p, s = foot[i, e], t[i, e]
+    # A concave corner of this loop near that point takes the seam (the section's corner the seam
+    # sits in is not this offset loop's: the nearest point to it lies beside the loop's corner).
+    corners, _ = concave_corners(ring)
+    if len(corners):
+        gap = np.hypot(*(ring[corners] - p).T)
+        if gap.min() <= SNAP:
+            return ring, int(corners[np.argmin(gap)])
+    # Near a vertex (a thousandth of a millimetre), that vertex: no sliver of an edge.
+    if s * np.sqrt(l2[e]) <= 1e-3:
+        return ring, int(e)
+    if (1 - s) * np.sqrt(l2[e]) <= 1e-3:
+        return ring, int((e + 1) % len(ring))
+    return np.insert(ring, e + 1, p, axis=0), int(e + 1)
 
 
 def _island_of(points: np.ndarray, exteriors: list, areas: np.ndarray) -> np.ndarray:
@@ -104,8 +143,9 @@ def order_step(section, per, fills, *, line_width: float, seam: str = "nearest",
     line_width : float
     seam : {"nearest", "rear", "aligned"}
         Where each perimeter loop starts (`SEAMS`).
-    seam_point : (2,) array_like, optional
-        For ``seam="aligned"``: each loop starts at its vertex nearest this point.
+    seam_point : (2,) or (m, 2) array_like, optional
+        For ``seam="aligned"``: each loop starts at its vertex nearest these points (the layer's
+        seam points, `slicelab.printing.seams.seam_targets`).
     external_first : bool
         Print each island's outer perimeter (and its holes' walls) before the inner ones.
     start : (2,) array_like, optional
