@@ -120,7 +120,7 @@ def _variant(path: Path, root: Path, scale: float, turn: float, tmp: Path, previ
             return "printed", say.strip("; "), failed
         errors = [x for x in lines if "error:" in x]
         if r.returncode == 2 and len(lines) == 1 and len(errors) == 1 and not out.exists():
-            return "refused", lines[-1].split(": ", 2)[-1], None
+            return "refused", lines[-1].split(": ", 2)[-1].replace(f"{source}: ", ""), None
         return "failed", f"exit {r.returncode}: " + (lines[-1] if lines else "") + \
             (f" ({len(lines)} lines on stderr)" if len(lines) > 1 else ""), None
     finally:
