@@ -14,9 +14,7 @@ $(BIN)/python:
 # (about 40 s): ahead of time into an extension module where a C compiler is at hand, and into
 # numba's disk cache, the fallback (slicelab.geometry.compiled). No run compiles them again.
 EXT     := _aot_kernels
-KERNELS := $(addprefix slicelab/geometry/,compiled.py kernels.py march_kernels.py segment_kernels.py offset_kernels.py \
-           graph_kernels.py polygon_kernels.py slice_kernels.py) \
-           slicelab/gcode/text_kernels.py
+KERNELS := slicelab/geometry/compiled.py $(shell grep -rl --include='*.py' "import njit" slicelab)
 BUILD   := $(BIN)/python -c "from slicelab.geometry import compiled; print(compiled.build())"
 
 $(VENV)/.installed: pyproject.toml | $(BIN)/python

@@ -74,7 +74,7 @@ def test_arguments_of_other_types_go_to_numba(restore_kernels):
 
 
 def test_a_module_built_from_other_sources_is_not_used(monkeypatch, restore_kernels):
-    monkeypatch.setattr(compiled, "_sources_hash", lambda: "another version of the kernels")
+    monkeypatch.setattr(compiled, "_sources_hash", lambda modules: "another version of the kernels")
     state = compiled.select()
     assert state == ("stale (built from other sources)" if BUILT else "not built")
     assert douglas_peucker.table == {}

@@ -108,12 +108,9 @@ class CompiledLayer:
     settings: WriterSettings
 
     @classmethod
-    def of(cls, k: int, lp, h: float, w: WriterSettings, off, pos, at) -> "CompiledLayer | None":
-        """The layer's inputs, or None if the compiled writer does not take it (no paths, a path
-        of one point): Python writes those."""
-        pieces = list(lp.pieces())
-        if not pieces or any(len(q[1]) < 2 for q in pieces):
-            return None
+    def of(cls, k: int, lp, h: float, w: WriterSettings, off, pos, at) -> "CompiledLayer":
+        """The layer's inputs (a path of a single point, which lays nothing, left out)."""
+        pieces = [q for q in lp.pieces() if len(q[1]) >= 2]  # (a point alone lays nothing)
         z = lp.z + 0.0
         counts = np.array([len(q[1]) for q in pieces], np.int64)
         numbers = w.numbers.copy()
@@ -121,16 +118,18 @@ class CompiledLayer:
         numbers[4] = 1.0 if k == 0 else 0.0
         numbers[12] = lift_at(z, numbers[12], w.max_height)
         return cls(f"G1 Z{z:.3f} F{w.travel}\n",
-                   np.ascontiguousarray(np.concatenate([q[1] for q in pieces]) + off[:2], np.float64), counts,
+                   np.ascontiguousarray(np.concatenate([q[1] for q in pieces] or [np.zeros((0, 2))]) + off[:2],
+                                        np.float64), counts,
                    np.array([KIND_INDEX[q[0]] for q in pieces], np.int64),
                    np.concatenate([np.full(m, q[2], np.float64) if np.isscalar(q[2]) else
-                                   np.asarray(q[2], np.float64) for m, q in zip(counts.tolist(), pieces)]),
+                                   np.asarray(q[2], np.float64) for m, q in zip(counts.tolist(), pieces)]
+                                  or [np.zeros(0)]),
                    numbers, np.array([float(v) for v in np.asarray(at, np.float64)[:3]]),
                    np.zeros(3) if pos is None else np.array([float(pos[0]), float(pos[1]), 1.0]), w)
 
     def run(self, factor: float, text: bool):
         """(text or None, filament, seconds) at extrusion speeds times `factor`; the text is
-        None if a number could not be written here (Python writes the layer then)."""
+        None if a number could not be written (beyond what G-code holds)."""
         numbers = self.numbers.copy()
         numbers[5] = factor
         w = self.settings

@@ -24,23 +24,16 @@ slicelab.viz.layers.preview_png : a PNG of some layers.
 """
 from __future__ import annotations
 
-import math
 
 import numpy as np
 
 from .estimate import format_duration, move_times
 from ..printing.config.settings import settings_dict
 from ..printing.config.printers import MARLIN_END, MARLIN_START, render_gcode
-from ..printing.roles import STYLES
 from ..export.files import atomic_open
-from .layer_inputs import SMALL_PERIMETER, CompiledLayer, WriterSettings, kind_speeds, lift_at
-from .text_kernels import fixed
+from .layer_inputs import CompiledLayer, WriterSettings
 
-__all__ = ["write_gcode", "gcode_lines", "header_value", "layer_fan", "layer_texts"]
-
-
-#: One extrusion move as written.
-_G1 = "G1 X%.3f Y%.3f E%.5f\n"
+__all__ = ["write_gcode", "gcode_lines", "header_value", "layer_fan", "layer_texts", "layer_starts", "slowed"]
 
 
 class _Moves:
@@ -96,7 +89,7 @@ def header_value(value) -> str:
     return text.replace("\\", "\\\\").replace("\r", "\\r").replace("\n", "\\n")
 
 
-def gcode_lines(plan, totals: dict | None = None, *, workers: int | None = 1, compiled: bool = True, notes=()):
+def gcode_lines(plan, totals: dict | None = None, *, workers: int | None = 1, notes=()):
     """Yield the G-code text in blocks (header, each layer, end, the totals).
 
     Parameters
@@ -110,9 +103,6 @@ def gcode_lines(plan, totals: dict | None = None, *, workers: int | None = 1, co
         Processes formatting the layers; None: all cores when the layers left to format (those
         not formatted ahead, `layer_texts`) are worth a pool (`_pooled`). The text is the same
         for any number.
-    compiled : bool, default True
-        Layers written by the compiled pass (`slicelab.gcode.text_kernels.layer_moves`);
-        False writes every layer with Python, the same bytes, a few times slower.
     notes : sequence of str
         Comment lines of the header, after its first (each line of each note a comment).
 
@@ -130,12 +120,12 @@ def gcode_lines(plan, totals: dict | None = None, *, workers: int | None = 1, co
            f"; flavor = {s.gcode_flavor}\n"
            + render_gcode(s.start_gcode if s.start_gcode is not None else MARLIN_START, s)
            + "G92 E0\nM107\n")
-    starts = _layer_starts(plan)
+    starts = layer_starts(plan)
     seconds = filament = 0.0
     z = 0.0
     fan_now = 0  # M107 above
     layer_seconds = []
-    for k, (text, t, used) in enumerate(_layer_blocks(plan, starts, workers, compiled)):  # over layers, in order
+    for k, (text, t, used) in enumerate(_layer_blocks(plan, starts, workers)):  # over layers, in order
         lp, h = plan.layers[k], plan.heights[k]
         z = lp.z + 0.0
         fan = layer_fan(k, t, s)
@@ -145,12 +135,8 @@ def gcode_lines(plan, totals: dict | None = None, *, workers: int | None = 1, co
         seconds, filament = seconds + t, filament + used
         layer_seconds.append(t)
         yield head + text.replace("\x00FAN\x00", _fan_command(fan))
-    moves = _Moves(starts[-1][1])
     top = max(z, min(z + 10.0, s.max_height))
-    x, y, z_end = moves.last
-    moves.point(x, y, z_end, -s.retraction_length, round(60 * s.retraction_speed) / 60)
-    moves.point(x, y, top, 0.0, 10.0)
-    seconds += moves.seconds(s)
+    seconds += _end_seconds(starts[-1][1], top, s)
     if totals is not None:
         totals.update(seconds=seconds, filament=filament, layer_seconds=layer_seconds)
     yield (f"; end\nG1 E{-s.retraction_length:.5f} F{60 * s.retraction_speed:.0f}\n"
@@ -160,7 +146,16 @@ def gcode_lines(plan, totals: dict | None = None, *, workers: int | None = 1, co
            f"; estimated printing time (normal mode) = {format_duration(seconds)}\n")
 
 
-def _layer_starts(plan) -> list:
+def _end_seconds(at, top: float, s) -> float:
+    """The time of the end's two moves from `at` (xyz as written): the retraction, the lift to `top`."""
+    at = np.asarray(at, np.float64)
+    ends = np.round(np.array([at, [at[0], at[1], top]]), 3)
+    return float(move_times(np.vstack([at, ends[:-1]]), ends, np.array([-s.retraction_length, 0.0]),
+                            np.array([round(60 * s.retraction_speed) / 60, 10.0]), acceleration=s.acceleration,
+                            jerk=s.jerk).sum())
+
+
+def layer_starts(plan) -> list:
     """Where the nozzle is as each layer starts, and after the last: (xy of the last extrusion's end
     in bed coordinates, None before any; the position as written, xyz rounded to the micrometre).
 
@@ -178,7 +173,7 @@ def _layer_starts(plan) -> list:
 
 
 def _after(lp, off, start: tuple) -> tuple:
-    """Where the nozzle is after a layer that started at `start` (see `_layer_starts`)."""
+    """Where the nozzle is after a layer that started at `start` (see `layer_starts`)."""
     z = lp.z + 0.0
     if lp.paths:
         pos = lp.paths[-1][-1] + off[:2]
@@ -237,7 +232,7 @@ def layer_texts(first: int, layers: list, heights, settings, offset) -> list:
 
 
 def _same_start(a: tuple, b: tuple) -> bool:
-    """Whether two nozzle starts (`_layer_starts`) are the same."""
+    """Whether two nozzle starts (`layer_starts`) are the same."""
     return (a[0] is None) == (b[0] is None) and (a[0] is None or np.array_equal(a[0], b[0])) \
         and np.array_equal(a[1], b[1])
 
@@ -258,19 +253,19 @@ def _pooled(plan, layers: list | None = None) -> bool:
     return len(ks) > 2 * _GCODE_RUN and 1e-4 * len(ks) + 3.5e-7 * points > 0.15
 
 
-def _layer_blocks(plan, starts: list, workers: int, compiled: bool = True):
+def _layer_blocks(plan, starts: list, workers: int):
     """Each layer's (text, seconds, filament), in order: formatted ahead (`layer_texts`, when its
     start is the one found here), here, or by a pool of processes."""
     n = len(plan.layers)
     s, off = plan.settings, plan.offset
-    ahead = plan.texts if compiled else {}
+    ahead = plan.texts
     ready = {k: got[1] for k, got in ahead.items() if k < n and _same_start(got[0], starts[k])}
     left = [k for k in range(n) if k not in ready]
     runs = [left[a:a + _GCODE_RUN] for a in range(0, len(left), _GCODE_RUN)]
 
     def job(run):
         return (run, [plan.layers[k] for k in run], [float(plan.heights[k]) for k in run], s, off,
-                [starts[k] for k in run], compiled)
+                [starts[k] for k in run])
 
     def merged(formatted):  # the ready blocks and the formatted ones, in order
         k = 0
@@ -298,39 +293,28 @@ def _layer_blocks(plan, starts: list, workers: int, compiled: bool = True):
         yield from merged((run, fut.result()) for run, fut in futures)
 
 
-def _format_run(ks: list, layers: list, heights: list, s, off, starts: list, compiled: bool = True) -> list:
-    """The (text, seconds, filament) of some layers, each from its start (`_layer_starts`): its
+def _format_run(ks: list, layers: list, heights: list, s, off, starts: list) -> list:
+    """The (text, seconds, filament) of some layers, each from its start (`layer_starts`): its
     inputs come as arguments, so a pool's worker needs nothing from its parent."""
-    fixed_inputs = WriterSettings.of(s) if compiled else None
+    fixed_inputs = WriterSettings.of(s)
     return [_layer_block(k, lp, h, s, off, pos, at, fixed_inputs)
             for k, lp, h, (pos, at) in zip(ks, layers, heights, starts)]
 
 
-def _layer_block(k: int, lp, h: float, s, off, pos, at, fixed_inputs: WriterSettings | None = None) \
-        -> tuple[str, float, float]:
-    """One layer's G-code (without its header; its fan as a marker), its time and filament.
+def _layer_block(k: int, lp, h: float, s, off, pos, at, fixed_inputs: WriterSettings) -> tuple[str, float, float]:
+    """One layer's G-code (without its header; its fan as a marker), its time and filament, written
+    by the compiled pass (`slicelab.gcode.text_kernels.layer_moves`).
 
     Written at full speed first; a layer quicker than `min_layer_time` is written again slower,
-    so that it has time to cool before the next one is laid on it. The compiled writer
-    (`slicelab.gcode.text_kernels.layer_moves`) writes it when it can and `fixed_inputs` are
-    given, else Python: the same bytes.
+    so that it has time to cool before the next one is laid on it.
     """
-    fast = None if fixed_inputs is None else CompiledLayer.of(k, lp, h, fixed_inputs, off, pos, at)
-    if fast is not None:
-        out = _slowed(fast.run, k, s)
-        if out is not None:
-            return out
-    return _slowed(lambda factor, text: _python_layer(k, lp, h, s, off, pos, at, factor, text), k, s)
+    out = slowed(CompiledLayer.of(k, lp, h, fixed_inputs, off, pos, at).run, k, s)
+    if out is None:  # (the settings' ranges and the bed keep every number within what it writes)
+        raise ValueError(f"layer {k}: a coordinate or an extrusion G-code cannot hold (beyond 1e9)")
+    return out
 
 
-def _python_layer(k: int, lp, h: float, s, off, pos, at, factor: float, text: bool):
-    """(text, filament, seconds) of a layer written by Python at extrusion speeds times `factor`."""
-    moves = _Moves(at)
-    written, used = _layer_gcode(k, lp, h, s, off, moves, pos, factor, text=text)
-    return written, used, moves.seconds(s)
-
-
-def _slowed(run, k: int, s):
+def slowed(run, k: int, s):
     """A layer's (text, seconds, filament) from ``run(factor, text) -> (text, filament, seconds)``,
     at full speed or slowed to take `min_layer_time`; None if `run` gives no text."""
     text, used, t = run(1.0, True)
@@ -371,125 +355,7 @@ def layer_fan(k: int, seconds: float, s) -> int:
     return int(round(s.fan_speed + (100 - s.fan_speed) * share))
 
 
-def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: float, text: bool = True):
-    """One layer's moves as G-code text (without its header) and the filament it uses, from the
-    nozzle at `pos` (xy, None before any extrusion); extrusion speeds times `factor` (not below `min_print_speed`). With
-    ``text=False`` only the moves are added (for timing): the extrusions are not formatted.
-
-    The layer's fan command is left as a marker where bridges change it back. The paths'
-    points, segment lengths and extrusions are computed for the whole layer at once; the loop
-    over paths only writes their headers and travels.
-    """
-    k_e = s.extrusion_multiplier / s.filament_area
-    speeds = kind_speeds(s)
-    travel_feed, retract_feed = round(60 * s.travel_speed) / 60, round(60 * s.retraction_speed) / 60
-    z = lp.z + 0.0
-    retract, lift, min_travel = s.retraction_length, lift_at(z, s.z_lift, s.max_height), s.retract_min_travel
-    first_speed, small_speed, min_speed = s.first_layer_speed, s.small_perimeter_speed, s.min_print_speed
-    travel_f, retract_f = f"{60 * s.travel_speed:.0f}", f"{60 * s.retraction_speed:.0f}"
-    out = [f"G1 Z{z:.3f} F{travel_f}\n"]
-    x, y, _ = moves.last
-    moves.point(x, y, z, 0.0, travel_feed)
-    pieces = list(lp.pieces())
-    if not pieces:
-        return "".join(out), 0.0
-    kinds = [q[0] for q in pieces]
-    counts = np.array([len(q[1]) for q in pieces])
-    ends = np.cumsum(counts)
-    begins = ends - counts
-    xy = np.concatenate([q[1] for q in pieces]) + off[:2]
-    n = len(xy)
-    width = np.concatenate([np.full(m, q[2]) if np.isscalar(q[2]) else np.asarray(q[2], np.float64)
-                            for m, q in zip(counts, pieces)])
-    # Segment j joins points j and j + 1; those that join two paths are never used.
-    d = np.diff(xy, axis=0)
-    seg = np.hypot(d[:, 0], d[:, 1])
-    wm = 0.5 * (width[:-1] + width[1:])
-    flow = np.repeat([k_e * s.bridge_flow_ratio if kind == "bridge" else k_e for kind in kinds], counts)[:-1]
-    e = wm * h * seg * flow
-    # Each path's mean width (its own segments only: those joining two paths count nothing).
-    inner = wm.copy()
-    inner[ends[:-1] - 1] = 0.0
-    mean_width = (np.add.reduceat(inner, begins) / np.maximum(counts - 1, 1)).tolist() if n > 1 else [0.0]
-    e_written = np.round(e, 5)
-    closed = np.all(xy[begins] == xy[ends - 1], axis=1)
-    # The travel to each path's first point, from the last path's end (or the nozzle).
-    before = np.vstack([[np.nan, np.nan] if pos is None else pos, xy[ends[:-1] - 1]])
-    gap = xy[begins] - before
-    travel = np.hypot(gap[:, 0], gap[:, 1])
-    if pos is None:
-        travel[0] = math.inf
-    rows = np.empty((n, 5))  # the moves to each point: x, y, z, filament, feed
-    rows[:, :2] = xy
-    rows[:, 2] = z
-    rows[1:, 3] = e
-    values = moves_text = line_at = None
-    if text:
-        shown = np.empty((n, 3))
-        shown[:, :2] = xy
-        shown[1:, 2] = e
-        # Every extrusion move of the layer formatted in one compiled pass (Python's digits);
-        # a value it cannot format (not finite, or huge) leaves the layer to Python's %.
-        formatted = fixed(shown)
-        if formatted is None:
-            values = shown.ravel().tolist()
-        else:
-            moves_text, line_at = formatted[0], formatted[1].tolist()
-    starts, stops = begins.tolist(), ends.tolist()
-    filament = 0.0
-    current_type = None
-    for i, kind in enumerate(kinds):  # over paths
-        a, b = starts[i], stops[i]
-        if kind != current_type:
-            if current_type == "bridge":
-                out.append("\x00FAN\x00")  # the layer's own fan again after a bridge
-            out.append(f";TYPE:{STYLES[kind].gcode_type}\n")
-            if kind == "bridge":
-                out.append("M106 S255\n")  # bridge threads set in the air: full cooling
-            current_type = kind
-        if travel[i] > 1e-9:
-            x0, y0 = float(xy[a, 0]), float(xy[a, 1])
-            if travel[i] > min_travel and retract > 0:
-                x, y, zz = moves.last
-                out.append(f"G1 E{-retract:.5f} F{retract_f}\n")
-                moves.point(x, y, zz, -retract, retract_feed)
-                if lift > 0:
-                    out.append(f"G1 Z{z + lift:.3f} F{travel_f}\n")
-                    moves.point(x, y, z + lift, 0.0, travel_feed)
-                out.append(f"G0 X{x0:.3f} Y{y0:.3f} F{travel_f}\n")
-                moves.point(x0, y0, z + lift, 0.0, travel_feed)
-                if lift > 0:
-                    out.append(f"G1 Z{z:.3f}\n")
-                    moves.point(x0, y0, z, 0.0, travel_feed)
-                out.append(f"G1 E{retract:.5f} F{retract_f}\n")
-                moves.point(x0, y0, z, retract, retract_feed)
-            else:
-                out.append(f"G0 X{x0:.3f} Y{y0:.3f} F{travel_f}\n")
-                moves.point(x0, y0, z, 0.0, travel_feed)
-        speed = first_speed if k == 0 else speeds[kind]
-        if kind in ("external", "hole", "internal") and b - a > 3 and closed[i] \
-                and seg[a:b - 1].sum() < SMALL_PERIMETER:
-            speed = min(speed, small_speed)
-        if factor < 1:
-            speed = max(min(speed, min_speed), speed * factor)
-        out.append(f";WIDTH:{mean_width[i]:.3f}\nG1 F{60 * speed:.0f}\n")
-        if text:
-            if b - a < 2:
-                out.append("\n")
-            elif moves_text is not None:  # the moves to points a + 1 .. b - 1
-                out.append(moves_text[line_at[a + 1]:line_at[b]])
-            else:
-                out.append(_G1 * (b - a - 1) % tuple(values[3 * a + 3:3 * b]))
-        block = rows[a + 1:b]
-        block[:, 4] = round(60 * speed) / 60
-        moves.block(block)
-        filament += float(e_written[a:b - 1].sum())
-    if current_type == "bridge":
-        out.append("\x00FAN\x00")
-    return "".join(out), filament
-
-
-def write_gcode(plan, path, *, workers: int | None = None, compiled: bool = True, notes=()) -> dict:
+def write_gcode(plan, path, *, workers: int | None = None, notes=()) -> dict:
     """Write the plan's G-code to `path` (temporary name, renamed when whole).
 
     Parameters
@@ -501,8 +367,6 @@ def write_gcode(plan, path, *, workers: int | None = None, compiled: bool = True
         left to format, those the planner's workers did not format ahead
         (`layer_texts`), take longer than starting a pool and gathering its
         text, else 1: see `_pooled`); the file is the same for any number.
-    compiled : bool, default True
-        False writes every layer with Python (see `gcode_lines`): the same file.
     notes : sequence of str
         Lines said in the header, as comments (what a repair changed, say).
 
@@ -531,6 +395,6 @@ def write_gcode(plan, path, *, workers: int | None = None, compiled: bool = True
     totals: dict = {}
     with atomic_open(path, "w", encoding="utf-8") as fh:
         for block in gcode_lines(plan, totals, workers=None if workers is None else max(1, int(workers)),
-                                 compiled=compiled, notes=notes):
+                                 notes=notes):
             fh.write(block)
     return totals

@@ -1,8 +1,10 @@
 """The compiled kernels: built ahead of time into an extension module, else compiled by numba on first use.
 
-The kernels of the modules in `MODULES` (`slicelab.geometry.kernels`,
-`slicelab.geometry.segment_kernels`, `slicelab.gcode.text_kernels`, ...) are plain
-Python functions decorated with this module's `njit`. Each call goes to one of two compiled forms of
+The kernels are plain Python functions decorated with this module's `njit`,
+which registers them: the modules that hold them (`slicelab.geometry.kernels`,
+`slicelab.geometry.segment_kernels`, `slicelab.gcode.text_kernels`, ...) are
+found by their import of it (`kernel_modules`), so this ground-floor module
+names none of them. Each call goes to one of two compiled forms of
 the same source:
 
 - **ahead of time**: `build` compiles every kernel, for each argument type it
@@ -40,11 +42,9 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["njit", "Kernel", "build", "status", "select", "arguments_key"]
+__all__ = ["njit", "Kernel", "build", "status", "select", "arguments_key", "kernel_modules"]
 
-#: The modules whose kernels are built (in slicelab).
-MODULES = ("geometry.kernels", "geometry.march_kernels", "geometry.segment_kernels", "geometry.offset_kernels",
-           "geometry.graph_kernels", "geometry.polygon_kernels", "geometry.slice_kernels", "gcode.text_kernels")
+#: The package whose modules are searched for kernels (by their import of this module's `njit`).
 #: Name of the extension module `build` writes beside this file, and of its table.
 EXTENSION = "_aot_kernels"
 _HERE = Path(__file__).resolve().parent
@@ -101,11 +101,29 @@ def _type_key(t) -> tuple | str | None:
     return None
 
 
-def _sources_hash() -> str:
+def kernel_modules() -> tuple:
+    """The modules of slicelab that define kernels (those that import this module's `njit`), as
+    dotted names under the package: found in the sources, so that no list of them is kept here.
+
+    Examples
+    --------
+    >>> "geometry.kernels" in kernel_modules()
+    True
+    """
+    root = _HERE.parent
+    found = []
+    for path in sorted(root.rglob("*.py")):  # (the build and the stale check only: not at each start)
+        text = path.read_text(encoding="utf-8")
+        if "import njit" in text and path.name != "compiled.py":
+            found.append(".".join(path.relative_to(root).with_suffix("").parts))
+    return tuple(found)
+
+
+def _sources_hash(modules) -> str:
     """A hash of the kernels' sources, of this module and of numpy's version (the built module
     unboxes its arrays): a module built from other sources, or for another numpy, is not used."""
     h = hashlib.sha256(np.__version__.encode())
-    for name in (*MODULES, "geometry.compiled"):
+    for name in (*modules, "geometry.compiled"):
         h.update((_HERE.parent / f"{name.replace('.', '/')}.py").read_bytes())
     return h.hexdigest()
 
@@ -194,13 +212,11 @@ def _jit_module(module) -> None:
 _REGISTRY: dict = {}
 
 
-def _kernels() -> dict:
-    """Every kernel of the kernel modules, by "module.function"."""
-    last = set()
-    for m in MODULES:
+def _kernels(modules=None) -> dict:
+    """Every kernel registered (`njit`) by "module.function"; the kernel `modules` imported first."""
+    for m in modules or ():
         importlib.import_module(f"slicelab.{m}")
-        last.add(m.rpartition(".")[2])
-    return {name: k for name, k in _REGISTRY.items() if name.partition(".")[0] in last}
+    return dict(_REGISTRY)
 
 
 def _load() -> str:
@@ -211,12 +227,13 @@ def _load() -> str:
         return "not built"
     try:
         table = json.loads(_TABLE.read_text())
-        if table.get("sources") != _sources_hash():
+        modules = table.get("modules", [])
+        if table.get("sources") != _sources_hash(modules):
             return "stale (built from other sources)"
         ext = importlib.import_module(f"{__package__}.{EXTENSION}")
     except (OSError, ValueError, ImportError) as exc:
         return f"unusable ({type(exc).__name__}: {exc})"
-    kernels = _kernels()
+    kernels = _kernels(modules)
     for qualname, entries in table["exports"].items():
         k = kernels.get(qualname)
         if k is not None:
@@ -291,7 +308,8 @@ def build(*, quiet: bool = False) -> str:
     import tempfile
     import warnings
 
-    modules = [importlib.import_module(f"slicelab.{m}") for m in MODULES]
+    names = kernel_modules()
+    modules = [importlib.import_module(f"slicelab.{m}") for m in names]
     for module in modules:
         _jit_module(module)
     select(False)  # every call to numba, which records the types
@@ -301,7 +319,7 @@ def build(*, quiet: bool = False) -> str:
     exports, entries = [], {}
     try:
         from numba.core import types
-        for qualname, k in _kernels().items():
+        for qualname, k in _kernels(names).items():
             if k.__name__.startswith("_"):  # helpers: compiled into the kernels that call them
                 continue
             d = k.jit()
@@ -343,7 +361,7 @@ def build(*, quiet: bool = False) -> str:
             print(msg, file=sys.stderr)
         return msg
     tmp_table = _TABLE.with_suffix(".json.part")
-    tmp_table.write_text(json.dumps({"sources": _sources_hash(), "exports": entries}))
+    tmp_table.write_text(json.dumps({"sources": _sources_hash(names), "modules": list(names), "exports": entries}))
     os.replace(tmp_table, _TABLE)
     # This process goes on with numba's forms: an extension module, once imported, is not
     # imported again, so the new one serves from the next process on.
