@@ -11,7 +11,7 @@ draw each layer as they plan it (`layer_drawings`, the planner's
 ``layer_drawing``), and only the files are written afterwards; otherwise a
 plan of more than some 200 layers has its runs of layers drawn by forked
 processes, which write their files themselves
-(`slicelab.printing._pool.forked_pool`).
+(`slicelab._pools.process_pool`).
 
 See Also
 --------
@@ -143,8 +143,8 @@ def write_svgs(plan, directory, *, workers: int | None = None) -> list:
     if workers <= 1 or len(runs) < 2:
         _write_run([plan.layers[k] for k in left], [paths[k] for k in left], page)
         return paths
-    from ..printing._pool import forked_pool
-    with forked_pool(min(int(workers), len(runs))) as pool:
+    from .._pools import process_pool
+    with process_pool(min(int(workers), len(runs))) as pool:
         futures = [pool.submit(_write_run, [plan.layers[k] for k in run], [paths[k] for k in run], page)
                    for run in runs]
         for fut in futures:

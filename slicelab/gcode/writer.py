@@ -286,8 +286,8 @@ def _layer_blocks(plan, starts: list, workers: int):
     if workers <= 1 or len(runs) < 2:
         yield from merged((run, _format_run(*job(run))) for run in runs)
         return
-    from ..printing._pool import forked_pool
-    with forked_pool(min(workers, len(runs))) as pool:
+    from .._pools import process_pool
+    with process_pool(min(workers, len(runs))) as pool:
         # Submitted all at once; taken back in order, so the file is written while later runs format.
         futures = [(run, pool.submit(_format_run, *job(run))) for run in runs]
         yield from merged((run, fut.result()) for run, fut in futures)

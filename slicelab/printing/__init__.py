@@ -11,7 +11,6 @@
 ``printing.config``         `PrintSettings` in groups, printer profiles and settings files, the bed
 ``printing._reuse``         layers that repeat, planned once (private)
 ``printing._schedule``      which runs of layers the workers take first (private)
-``printing._pool``          the forked process pool (private)
 ==========================  =====================================================
 """
 from __future__ import annotations
@@ -36,7 +35,7 @@ _WHERE = {"PRINTERS": "config.printers", "FLAVORS": "config.printers", "resolve_
           "check_bed": "config.bed", "ISLAND_ROLES": "roles",
           "ROLES": "roles", "FILLING_KINDS": "roles", "KINDS": "roles", "ROLE_OF": "roles", "RoleStyle": "roles", "STYLES": "roles",
           "LayerPaths": "table", "SEAMS": "steps.order", "layer_paths": "pipeline", "plan_layer": "pipeline", "LayerInputs": "pipeline", "LayerPlan": "pipeline", "STEPS": "pipeline", "coverage_map": "steps.coverage", "covered_pixels": "steps.coverage",
-          "PrintPlan": "planner", "plan": "planner", "layer_bounds": "planner", "forked_pool": "_pool",
+          "PrintPlan": "planner", "plan": "planner", "layer_bounds": "planner",
           "PrintSettings": "config.settings", "settings_dict": "config.settings", "Bridge": "steps.overhangs", "LayerOverhangs": "steps.overhangs", "layer_overhangs": "steps.overhangs", "mark_overhangs": "steps.overhangs", "PERIMETER_KINDS": "steps.overhangs", "setting_names": "config.settings",
           "Extrusion": "config.settings", "Infill": "config.settings", "Skins": "config.settings", "Motion": "config.settings",
           "Cooling": "config.settings", "Adhesion": "config.settings", "Walls": "config.settings", "Supports": "config.settings", "PIXEL": "supports.columns", "PLACEMENTS": "supports", "SupportStyle": "supports", "support_lines": "supports", "layer_skins": "steps.skins", "SUPPORTS": "supports", "support_masks": "supports.columns", "support_paths": "supports.columns", "Machine": "config.settings", "Raster": "config.settings",
@@ -54,7 +53,7 @@ __all__ = ["PRINTERS", "FLAVORS", "resolve_settings", "read_config", "format_con
            "GYROID_LENGTH", "simplify_mask", "simplify_path", "simplify_paths", "simplify_rings", "skirt_loops",
            "skirt_margin", "with_skirt", "check_bed", "ISLAND_ROLES", "ROLES",
            "FILLING_KINDS", "KINDS", "ROLE_OF", "RoleStyle", "STYLES", "LayerPaths", "layer_paths", "coverage_map", "covered_pixels", "PrintSettings",
-           "PrintPlan", "forked_pool", "plan", "layer_bounds", "settings_dict", "setting_names", "Extrusion", "Infill", "Skins",
+           "PrintPlan", "plan", "layer_bounds", "settings_dict", "setting_names", "Extrusion", "Infill", "Skins",
            "Motion", "Cooling", "Adhesion", "Machine", "Raster", "Walls", "Supports", "PIXEL", "SUPPORTS", "PLACEMENTS", "SupportStyle", "support_lines",
            "support_masks", "support_paths", "layer_skins", "GROUPS", "SEAMS", "Bridge", "LayerOverhangs",
            "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS", "outline_key", "same_outline", "same_point", "outline_size", "may_repeat", "Repeats", "same_mask",

@@ -456,11 +456,11 @@ def _plan(mesh: Mesh, s: PrintSettings, sunk: float, *, workers, progress, layer
     else:
         from concurrent.futures import as_completed
 
-        from ._pool import forked_pool
+        from .._pools import process_pool
         from ._schedule import costliest_first
         bar = _bar(n, progress)
         order = costliest_first(chunks, sections, s, tol, size)
-        with forked_pool(workers) as pool:
+        with process_pool(workers) as pool:
             # The runs that cannot start alike go first: the workers plan them while the others'
             # first layers are made here.
             futures = {pool.submit(_run_chunk, *job(a, b)): (a, b) for a, b in order if not may_need_starts((a, b))}

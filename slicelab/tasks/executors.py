@@ -46,7 +46,7 @@ def die_with_parent(pid: int) -> None:  # pragma: no cover - runs in the worker 
     The pool's workers are forked from a fork server, not from the batch. The
     fork server exits when the batch dies (the worker lets go of what would
     keep it running, `_let_go_of_forkserver`), and the kernel's parent-death
-    signal (`slicelab.printing._pool.end_with_parent`) then ends the worker,
+    signal (`slicelab._pools.end_with_parent`) then ends the worker,
     even one stuck in compiled code. A daemon thread also checks the batch
     twice a second, for systems without that signal: once the batch has
     died, the worker ends the fork server that started it (which serves that
@@ -56,7 +56,7 @@ def die_with_parent(pid: int) -> None:  # pragma: no cover - runs in the worker 
     """
     import signal
 
-    from ..printing._pool import end_with_parent
+    from .._pools import end_with_parent
     server = os.getppid()  # the fork server; with the spawn start method, the batch itself
     if server != pid:
         _let_go_of_forkserver()
@@ -104,7 +104,7 @@ def _worker_init(pid: int, starts, safepath) -> None:  # pragma: no cover - runs
     """A local worker's set-up: the environment as the user had it, the pipe to the client, `die_with_parent`."""
     global _STARTS
     _STARTS = starts
-    # The fork server was started with PYTHONSAFEPATH=1 (see _start_forkserver): not the user's setting.
+    # The fork server was started with PYTHONSAFEPATH=1 (`slicelab._pools.start_forkserver`): not the user's setting.
     if safepath is None:
         os.environ.pop("PYTHONSAFEPATH", None)
     else:
@@ -323,56 +323,14 @@ def _drain(executor, fn, queue: list, limit: int, on_done, lost: str, alive=None
     return [], stopped
 
 
-_ENVIRON = threading.Lock()
-
-
-def _start_forkserver() -> None:
-    """Start the fork server, unless it runs, with no current folder on its ``sys.path``.
-
-    It is started as ``python -c``, which puts the current folder first on
-    ``sys.path``: run from a folder that holds a ``slicelab/`` (a checkout,
-    say), the server would import that one, and every job would fail in its
-    workers. PYTHONSAFEPATH (Python 3.11) leaves the folder out; it is set
-    only while the server starts, and the workers restore the user's value.
-    """
-    from multiprocessing import forkserver
-    with _ENVIRON:
-        before = os.environ.get("PYTHONSAFEPATH")
-        os.environ["PYTHONSAFEPATH"] = "1"
-        try:
-            forkserver.ensure_running()
-        finally:
-            if before is None:
-                del os.environ["PYTHONSAFEPATH"]
-            else:
-                os.environ["PYTHONSAFEPATH"] = before
-
-
-def _pool_context(preload):
-    """Worker processes forked from a server that has imported `preload` once (forkserver).
-
-    Not a fork of this process, which may run threads (tqdm, BLAS); not a
-    spawn, which would import numpy, scipy and matplotlib again in every
-    worker of every run and re-run an unguarded __main__.
-    """
-    import multiprocessing
-    try:
-        ctx = multiprocessing.get_context("forkserver")
-    except ValueError:  # no forkserver on this platform (Windows)
-        return multiprocessing.get_context("spawn")
-    ctx.set_forkserver_preload(list(preload))
-    _start_forkserver()
-    return ctx
-
-
 @contextlib.contextmanager
 def _local_pool(ctx, workers: int, timeout: float | None):
     """A process pool, and the clock of its jobs when they have a time limit."""
-    from concurrent.futures import ProcessPoolExecutor
+    from .._pools import process_pool
     reader, writer = ctx.Pipe(duplex=False) if timeout is not None else (None, None)
     try:
-        with ProcessPoolExecutor(max_workers=workers, mp_context=ctx, initializer=_worker_init,
-                                 initargs=(os.getpid(), writer, os.environ.get("PYTHONSAFEPATH"))) as pool:
+        with process_pool(workers, context=ctx, initializer=_worker_init,
+                          initargs=(os.getpid(), writer, os.environ.get("PYTHONSAFEPATH"))) as pool:
             yield pool, (None if timeout is None else _LocalClock(timeout, reader))
     finally:
         for end in (reader, writer):
@@ -382,7 +340,8 @@ def _local_pool(ctx, workers: int, timeout: float | None):
 
 def _run_local(fn, jobs, workers: int, on_done, preload, timeout=None) -> None:
     """A process pool; a crash costs only the job that caused it, a stopped job only itself."""
-    ctx = _pool_context(preload)
+    from .._pools import forkserver_context
+    ctx = forkserver_context(preload)
     queue = list(reversed(jobs))
     suspects = []
     while queue:

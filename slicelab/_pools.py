@@ -1,7 +1,10 @@
-"""The process pool that plans layers and formats G-code: forked, one thread each, the collector frozen.
+"""slicelab's process pools, made in one place: forked where the platform allows it, else from a fork server.
 
-Both the print planner and the G-code writer hand runs of layers to a pool
-of forked processes, each run's inputs given as arguments. Forking is what
+The print planner, the G-code writer and the layer drawings hand runs of
+layers to a pool of forked processes (`process_pool` with no context), each
+run's inputs given as arguments; a batch, whose process runs threads (a
+progress bar, BLAS), takes its workers from a fork server that imported its
+modules once (`forkserver_context`, then `process_pool` with that context). Forking is what
 makes a pool cheap here: the workers inherit the modules and the compiled
 kernels loaded before the fork instead of loading them again. Three things
 keep the forked workers from fighting each other, copying their parent or
@@ -31,8 +34,9 @@ import contextlib
 import gc
 import os
 import sys
+import threading
 
-__all__ = ["forked_pool", "end_with_parent"]
+__all__ = ["process_pool", "forkserver_context", "start_forkserver", "end_with_parent"]
 
 _PR_SET_PDEATHSIG = 1  # from <linux/prctl.h>
 
@@ -87,23 +91,29 @@ def end_with_parent(parent: int) -> None:
 
 
 @contextlib.contextmanager
-def forked_pool(workers: int):
-    """A `ProcessPoolExecutor` of `workers` forked processes, OpenCV single-threaded and the
-    collector's objects frozen while it runs; the workers end if this process dies.
+def process_pool(workers: int, *, context=None, initializer=None, initargs=()):
+    """A `ProcessPoolExecutor` of `workers` processes.
 
-    The workers are forked at once, by the thread that enters the ``with``
-    block, which waits for them when it leaves it: the parent-death signal of
-    `end_with_parent` follows that thread, so it must outlive them.
+    Without a `context`, forked (where the platform has fork): OpenCV single-threaded and the
+    collector's objects frozen while it runs, the workers ending if this process dies
+    (`end_with_parent`). The workers are forked at once, by the thread that enters the ``with``
+    block, which waits for them when it leaves it: the parent-death signal of `end_with_parent`
+    follows that thread, so it must outlive them. With a `context` (`forkserver_context`), its
+    workers, made ready by `initializer`.
 
     Examples
     --------
-    >>> with forked_pool(2) as pool:
+    >>> with process_pool(2) as pool:
     ...     sorted(pool.map(abs, [-2, 1]))
     [1, 2]
     """
     import multiprocessing as mp
     from concurrent.futures import ProcessPoolExecutor
-
+    if context is not None:
+        with ProcessPoolExecutor(int(workers), mp_context=context, initializer=initializer,
+                                 initargs=tuple(initargs)) as pool:
+            yield pool
+        return
     import cv2
     threads = cv2.getNumThreads()
     cv2.setNumThreads(1)
@@ -118,3 +128,45 @@ def forked_pool(workers: int):
     finally:
         gc.unfreeze()
         cv2.setNumThreads(threads)
+
+
+_ENVIRON = threading.Lock()
+
+
+def start_forkserver() -> None:
+    """Start the fork server, unless it runs, with no current folder on its ``sys.path``.
+
+    It is started as ``python -c``, which puts the current folder first on
+    ``sys.path``: run from a folder that holds a ``slicelab/`` (a checkout,
+    say), the server would import that one, and every job would fail in its
+    workers. PYTHONSAFEPATH (Python 3.11) leaves the folder out; it is set
+    only while the server starts, and the workers restore the user's value.
+    """
+    from multiprocessing import forkserver
+    with _ENVIRON:
+        before = os.environ.get("PYTHONSAFEPATH")
+        os.environ["PYTHONSAFEPATH"] = "1"
+        try:
+            forkserver.ensure_running()
+        finally:
+            if before is None:
+                del os.environ["PYTHONSAFEPATH"]
+            else:
+                os.environ["PYTHONSAFEPATH"] = before
+
+
+def forkserver_context(preload):
+    """Worker processes forked from a server that has imported `preload` once (forkserver).
+
+    Not a fork of this process, which may run threads (tqdm, BLAS); not a
+    spawn, which would import numpy, scipy and matplotlib again in every
+    worker of every run and re-run an unguarded __main__.
+    """
+    import multiprocessing
+    try:
+        ctx = multiprocessing.get_context("forkserver")
+    except ValueError:  # no forkserver on this platform (Windows)
+        return multiprocessing.get_context("spawn")
+    ctx.set_forkserver_preload(list(preload))
+    start_forkserver()
+    return ctx
