@@ -2,7 +2,7 @@
 """Check that a printer can trust a G-code file, read back from disk, independently of the slicer.
 
 The checker reads the moves with its own parser and imports neither ``slicelab.printing`` nor
-``slicelab.export``'s writer: the part is known only by its mesh and exact plane sections
+``slicelab.gcode``'s writer: the part is known only by its mesh and exact plane sections
 (``slicelab.load``, ``slicelab.slice_layers``), with numpy and shapely. Seven checks, each giving
 its offending line numbers (1-based), worst first:
 

@@ -189,7 +189,7 @@ def profile_drawing(out):
 # ===================================================================== runner
 def render(stage: str, name: str, out: Path) -> list[Path]:
     """Make one figure and write it under `out`; return the files written."""
-    from slicelab.export.files import atomic_path
+    from slicelab.files.atomic import atomic_path
     out.mkdir(parents=True, exist_ok=True)
     result = FIGURES[stage][name](out)
     if isinstance(result, list):

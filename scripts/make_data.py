@@ -19,7 +19,7 @@ sys.path.insert(0, str(ROOT))
 
 from slicelab import save  # noqa: E402
 from slicelab import samples  # noqa: E402
-from slicelab.export.files import atomic_open  # noqa: E402
+from slicelab.files.atomic import atomic_open  # noqa: E402
 
 SMALL = {
     "cube_with_hole": lambda: samples.cube_with_hole(20.0, 5.0, 64),

@@ -42,7 +42,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import slicelab  # noqa: E402
-from slicelab.export import write_mesh  # noqa: E402
+from slicelab.mesh.written import write_mesh  # noqa: E402
 from slicelab.mesh import MeshFileError  # noqa: E402
 
 

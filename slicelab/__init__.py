@@ -9,7 +9,7 @@ names (``__all__``) and keeps one job per module:
 ``slicelab.slicing``     sections, splits, watertight cuts, partitions into pieces
 ``slicelab.printing``    layer rasters, perimeters, infill, paths, the print plan
 ``slicelab.artefacts``   vessel axis, profiles, measurements, drawings
-``slicelab.export``      safe file output, checked meshes, the SVG writer
+``slicelab.files``       safe file output, numbers as text, the SVG writer
 ``slicelab.gcode``       G-code of a print plan, its time estimate, layer drawings
 ``slicelab.viz``         matplotlib figures and previews (imported on first use)
 ``slicelab.tasks``       jobs on files for the command line and batches
@@ -57,5 +57,5 @@ __all__ = ["Mesh", "MeshFileError", "MeshReport", "check", "load", "repair", "sa
 
 
 __getattr__, __dir__ = attach(__name__, _LAZY, globals(),
-                              submodules=("geometry", "mesh", "slicing", "printing", "gcode", "artefacts", "export", "viz",
+                              submodules=("geometry", "mesh", "slicing", "printing", "gcode", "artefacts", "files", "viz",
                                           "tasks", "samples"))

@@ -188,7 +188,7 @@ def test_a_corner_an_ulp_off_an_axis_plane_leaves_no_sliver(tmp_path):
     assert 0 < np.abs(d[d != 0]).min() < 1e-14  # a corner an ulp off the plane
     parts = assert_cut(mesh, origin, normal)
     from slicelab import load
-    from slicelab.export import write_mesh
+    from slicelab.mesh.written import write_mesh
     for side, part in (("rear", parts.rear), ("front", parts.front)):  # and so they are written
         written = check(load(write_mesh(part, tmp_path / f"{side}.stl").path))
         assert written.watertight and written.winding_consistent
@@ -268,7 +268,7 @@ def test_an_open_edge_near_the_plane_is_not_capped():
 # ------------------------------------------------------------------ self-intersecting input
 def _closed_on_disk(part: Mesh, path) -> float:
     """Write the part as STL, read it back: watertight with consistent windings; its volume."""
-    from slicelab.export import write_mesh
+    from slicelab.mesh.written import write_mesh
     written = write_mesh(part, path)
     back = check(slicelab.load(path))
     assert back.watertight and back.winding_consistent and written.report == back

@@ -4,8 +4,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from slicelab.export.svg import SvgDrawing
-from slicelab.gcode.text_kernels import fixed, path_data
+from slicelab.files.svg import SvgDrawing
+from slicelab.files.numbers import path_data
+from slicelab.gcode.text_kernels import fixed
 
 LINE = "G1 X%.3f Y%.3f E%.5f\n"
 

@@ -165,7 +165,7 @@ def test_atomic_open_steps_over_a_temporary_name_taken_and_gives_ordinary_permis
     # mode that is not writing leaves nothing.
     import os
 
-    from slicelab.export import files
+    from slicelab.files import atomic as files
     serial = next(files._SERIAL) + 1
     left = tmp_path / f".a.svg.{os.getpid()}.{serial}.part"
     left.write_text("left by a crash")

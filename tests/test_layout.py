@@ -13,7 +13,7 @@ import pytest
 import slicelab
 
 PACKAGE = Path(slicelab.__file__).parent
-SUBPACKAGES = ["geometry", "mesh", "slicing", "printing", "gcode", "artefacts", "export", "viz", "tasks"]
+SUBPACKAGES = ["geometry", "mesh", "slicing", "printing", "gcode", "artefacts", "files", "viz", "tasks"]
 MAX_LINES = 600
 
 

@@ -13,7 +13,7 @@ import shapely
 import slicelab
 from slicelab import check
 from slicelab.samples import box, concat, pot
-from slicelab.export import as_float32
+from slicelab.mesh.written import as_float32
 from slicelab.slicing import arrange, flat_faces, footprint
 
 

@@ -16,7 +16,7 @@ import slicelab
 from slicelab.artefacts import SherdReport, layout, profile
 from slicelab.artefacts.drawing import UNSURE_UP, parts
 from slicelab.cli import main
-from slicelab.export.profile_files import CSV_COLUMNS, profile_csv, profile_dxf
+from slicelab.artefacts.profile_files import CSV_COLUMNS, profile_csv, profile_dxf
 from slicelab.samples import handle_truth, pot, scan
 from slicelab.tasks import JOBS
 from slicelab.tasks.spec import JobInput
@@ -228,7 +228,7 @@ def test_cli_profile_writes_dxf_and_csv(tmp_path, capsys):
 WRITE_DXF = """
 import sys
 from slicelab.artefacts import profile
-from slicelab.export.profile_files import profile_dxf
+from slicelab.artefacts.profile_files import profile_dxf
 from slicelab.samples import pot
 profile_dxf(profile(pot(30, 36), planes=3, name="pot"), sys.argv[1])
 """

@@ -147,7 +147,7 @@ def test_real_cad_exports_cut_closed_after_repair(name, tmp_path):
 
 def test_noisy_mesh_cuts_closed_after_repair(rng, tmp_path):
     from slicelab import cut
-    from slicelab.export import write_mesh
+    from slicelab.mesh.written import write_mesh
     m = _noisy(concat(box((0, 0, 0), (20, 10, 10)), box((0, 0, 20), (10, 10, 30))), rng)
     fixed = repair(m).mesh
     for k, part in enumerate(cut(fixed, (0, 0, 5), (0.3, 0.1, 1))):

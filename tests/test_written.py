@@ -86,7 +86,7 @@ def _tetrahedra_a_gap_apart(gap: float, corner=(10.0, 3.0, 1.0)) -> Mesh:
 @pytest.mark.parametrize("gap, corner", [(1e-9, (10.0, 3.0, 1.0)), (4e-7, (10.0, 3.0, 1.0)),
                                          (1e-5, (500.0, 300.0, 100.0))])
 def test_vertices_that_float32_merges_stay_apart_in_the_file(gap, corner, tmp_path):
-    from slicelab.export import as_float32, write_mesh
+    from slicelab.mesh.written import as_float32, write_mesh
     m = _tetrahedra_a_gap_apart(gap, corner)
     assert check(m).watertight and check(m).n_shells == 2
     rounded = check(as_float32(m)[0])
@@ -107,7 +107,7 @@ def test_cut_points_float32_merges_stay_apart_in_the_written_parts(tmp_path):
     m = _tetrahedra_a_gap_apart(1e-9)
     origin, normal = (5.0, 0.0, 0.0), (1.0, 0.2, 0.1)
     parts = slicelab.cut(m, origin, normal)
-    from slicelab.export import as_float32
+    from slicelab.mesh.written import as_float32
     assert any(check(p).watertight and not check(as_float32(p)[0]).watertight for p in parts)
     r = run_job("cut", "two.stl", {"plane": (origin, normal), "preview": False}, tmp_path, mesh=m)
     for name in ("rear", "front"):
@@ -116,7 +116,7 @@ def test_cut_points_float32_merges_stay_apart_in_the_written_parts(tmp_path):
 
 @pytest.mark.parametrize("checked", [False, True], ids=["unchecked", "checked"])
 def test_the_file_holds_the_float32_facets_and_their_winding_normals(checked, tmp_path):
-    from slicelab.export import write_mesh
+    from slicelab.mesh.written import write_mesh
     from slicelab.geometry.triangles import winding_normals
     from slicelab.mesh.io import STL_RECORD
     # A torus with a sliver whose two corners are one float32 point: that facet is left out.

@@ -13,9 +13,9 @@ is a break rather than the vessel's surface. Where the stance is a guess
 an arrow with a question mark stands beside the section.
 
 `parts` gives all of that in the profile's own (r, z) plane (r >= 0, z up,
-mm): the DXF and CSV (`slicelab.export.profile_files`) are written from it,
+mm): the DXF and CSV (`slicelab.artefacts.profile_files`) are written from it,
 and `layout` mirrors it onto the page; the SVG here
-(`slicelab.export.SvgDrawing`) and the PNG (`slicelab.viz.profile_png`) are
+(`slicelab.files.SvgDrawing`) and the PNG (`slicelab.viz.profile_png`) are
 drawn from one `layout`, so none of them can disagree.
 """
 from __future__ import annotations
@@ -25,7 +25,7 @@ import weakref
 
 import numpy as np
 
-from ..export.svg import SvgDrawing
+from ..files.svg import SvgDrawing
 
 __all__ = ["layout", "profile_svg", "parts", "surfaces", "surface_runs", "orientation_uncertain", "SURFACES",
            "UNSURE_UP", "LINE", "THIN", "FONT"]
@@ -295,7 +295,7 @@ def parts(profile) -> dict:
     See Also
     --------
     layout : mirrors them onto the page.
-    slicelab.export.profile_files : writes them as DXF and CSV.
+    slicelab.artefacts.profile_files : writes them as DXF and CSV.
 
     Examples
     --------
@@ -507,7 +507,7 @@ def profile_svg(profile, *, side: str = "left", spread: bool = False, label: str
     layout : what is drawn.
     slicelab.artefacts.Profile.to_svg : writes it to a file.
     slicelab.viz.profile_png : the same layout as a PNG.
-    slicelab.export.SvgDrawing : the SVG writer.
+    slicelab.files.SvgDrawing : the SVG writer.
 
     Examples
     --------

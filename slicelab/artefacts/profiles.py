@@ -382,7 +382,7 @@ class Profile:
         >>> p = profile(pot(20, 24), planes=2)
         >>> p.to_svg(os.path.join(tempfile.mkdtemp(), "pot.svg"), side="right")
         """
-        from ..export.files import atomic_open
+        from ..files.atomic import atomic_open
         text = self.svg(**kwargs)
         with atomic_open(path, "w", encoding="utf-8") as fh:
             fh.write(text)

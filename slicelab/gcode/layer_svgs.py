@@ -25,8 +25,8 @@ from pathlib import Path
 import numpy as np
 
 from ..printing.roles import STYLES
-from ..export.files import atomic_open
-from ..export.svg import SvgDrawing
+from ..files.atomic import atomic_open
+from ..files.svg import SvgDrawing
 
 __all__ = ["write_svgs", "layer_drawings", "svg_page"]
 
@@ -112,7 +112,7 @@ def write_svgs(plan, directory, *, workers: int | None = None) -> list:
     See Also
     --------
     slicelab.gcode.writer.write_gcode : the same paths as G-code.
-    slicelab.export.svg.SvgDrawing : the SVG writer.
+    slicelab.files.svg.SvgDrawing : the SVG writer.
 
     Examples
     --------

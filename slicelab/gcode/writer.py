@@ -30,7 +30,7 @@ import numpy as np
 from .estimate import format_duration, move_times
 from ..printing.config.settings import settings_dict
 from ..printing.config.printers import MARLIN_END, MARLIN_START, render_gcode
-from ..export.files import atomic_open
+from ..files.atomic import atomic_open
 from .layer_inputs import CompiledLayer, WriterSettings
 
 __all__ = ["write_gcode", "gcode_lines", "header_value", "layer_fan", "layer_texts", "layer_starts", "slowed"]

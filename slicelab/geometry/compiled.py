@@ -195,8 +195,8 @@ def njit(**options):
 
 def _jit_module(module) -> None:
     """numba forms of every kernel of a module, which it then holds in place of the kernels, so
-    that numba, compiling one, finds the others it calls (and the intrinsics listed in the
-    module's ``_NUMBA_GLOBALS``, name -> "module:attribute")."""
+    that numba, compiling one, finds the others it calls, its own or imported from another kernel
+    module (and the intrinsics listed in the module's ``_NUMBA_GLOBALS``, name -> "module:attribute")."""
     import numba
     for name, where in getattr(module, "_NUMBA_GLOBALS", {}).items():
         mod, _, attr = where.partition(":")
@@ -206,6 +206,9 @@ def _jit_module(module) -> None:
             if value.dispatcher is None:
                 value.dispatcher = numba.njit(**value.options)(value.py_func)
             module.__dict__[name] = value.dispatcher
+    for name, value in list(vars(module).items()):  # kernels imported from another kernel module
+        if isinstance(value, Kernel):
+            module.__dict__[name] = value.jit()
 
 
 #: Every kernel, by "module.function" (the module's last name).

@@ -8,6 +8,7 @@
 ``mesh.validation``         `check` -> `MeshReport` (normals, open edges, shells, volume)
 ``mesh.repairs``            `repair`: CAD float noise, collapsed and duplicate facets, windings
 ``mesh.holes``              `fill_holes`, `hole_loops`: loops of open edges closed by fans
+``mesh.written``            `write_mesh`: STL whose report is the check of the file read back
 ==========================  =====================================================
 """
 from __future__ import annotations
@@ -18,5 +19,6 @@ from .io import MeshFileError, load, save
 from .validation import MeshReport, check, signed_volume
 from .repairs import RepairReport, Repaired, repair, near_vertex_pairs, default_tolerance
 from .holes import fill_holes, hole_loops
+from .written import WrittenMesh, as_float32, write_mesh
 
-__all__ = ["Mesh", "MeshFileError", "load", "save", "UNITS", "unit_scale", "MeshReport", "check", "signed_volume", "RepairReport", "Repaired", "repair", "near_vertex_pairs", "default_tolerance", "fill_holes", "hole_loops"]
+__all__ = ["Mesh", "MeshFileError", "load", "save", "UNITS", "unit_scale", "MeshReport", "check", "signed_volume", "RepairReport", "Repaired", "repair", "near_vertex_pairs", "default_tolerance", "fill_holes", "hole_loops", "WrittenMesh", "write_mesh", "as_float32"]

@@ -17,7 +17,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..export.files import atomic_open, atomic_path
+from ..files.atomic import atomic_open, atomic_path
 from .formats import is_scan_format, read_scan, unit_scale
 from .core import Mesh
 

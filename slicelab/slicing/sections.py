@@ -126,9 +126,9 @@ class Section:
 
         See Also
         --------
-        slicelab.export.SvgDrawing : the writer.
+        slicelab.files.SvgDrawing : the writer.
         """
-        from ..export.svg import SvgDrawing
+        from ..files.svg import SvgDrawing
         lo, hi = self.bounds() if len(self.segments) else (np.zeros(2), np.ones(2))
         svg = SvgDrawing((*(lo - margin), *(hi + margin)), digits=6,
                          desc=f"slicelab section; plane {json.dumps(self.frame.to_dict())}; "
@@ -152,7 +152,7 @@ class Section:
         >>> s = slicelab.section(box(), (0, 0, 0.5), (0, 0, 1))
         >>> s.to_svg(os.path.join(tempfile.mkdtemp(), "s.svg"))
         """
-        from ..export.files import atomic_open
+        from ..files.atomic import atomic_open
         with atomic_open(path, "w", encoding="utf-8") as fh:
             fh.write(self.svg(**kwargs))
 

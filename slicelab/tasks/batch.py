@@ -37,7 +37,7 @@ from pathlib import Path
 import numpy as np
 
 from .. import __version__
-from ..export.files import atomic_open
+from ..files.atomic import atomic_open
 from ..mesh.io import MeshFileError
 from .executors import TimedOut, run_jobs
 from .limits import likely_units
@@ -371,7 +371,7 @@ class BatchResult:
 _PRELOAD = ["slicelab.tasks.batch", "slicelab.mesh", "slicelab.slicing", "slicelab.artefacts.profiles",
             "slicelab.artefacts.drawing", "slicelab.viz.profile", "slicelab.viz.preview", "scipy.spatial",
             "matplotlib.figure", "matplotlib.backends.backend_agg", "slicelab.tasks.threads", "threadpoolctl",
-            "slicelab.export.profile_files", "ezdxf"]
+            "slicelab.artefacts.profile_files", "ezdxf"]
 
 
 def run_batch(root, out, task: str = "inspect", params: dict | None = None, *, workers: int | None = None,

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import json
 
-from ..export.files import atomic_open
+from ..files.atomic import atomic_open
 from .spec import (
     Job,
     ParameterError,
@@ -51,7 +51,7 @@ def _cut_compute(inp, p):
 
 def _write_parts(named, out) -> tuple[dict, list]:
     """Write meshes through `write_mesh`; the results are the checks of the files as written."""
-    from ..export import write_mesh
+    from ..mesh.written import write_mesh
     results, reasons = {}, []
     for role, name, mesh in named:
         if len(mesh) == 0:  # an STL with no facets could not be read back

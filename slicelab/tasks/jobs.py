@@ -31,7 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..export.files import StagedFolder, atomic_open, same_file
+from ..files.atomic import StagedFolder, atomic_open, same_file
 from .fabrication import CUT, PARTITION, SLICE
 from .limits import check_layers, check_planes, likely_units
 from .spec import (
@@ -185,7 +185,7 @@ def _split_compute(inp, p):
 
 
 def _split_write(value, inp, p, out):
-    from ..export import write_mesh
+    from ..mesh.written import write_mesh
     sp = value[2]
     written = {}
     draw = None
@@ -248,7 +248,7 @@ def _profile_write(pr, inp, p, out):
         with atomic_open(out.path("json"), "w", encoding="utf-8") as fh:
             json.dump(pr.to_dict(), fh)
     if p["dxf"] or p["csv"]:
-        from ..export.profile_files import profile_csv, profile_dxf
+        from ..artefacts.profile_files import profile_csv, profile_dxf
         if p["dxf"]:
             profile_dxf(pr, out.path("dxf"))
         if p["csv"]:

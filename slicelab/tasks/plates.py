@@ -8,7 +8,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
-from ..export.files import atomic_open
+from ..files.atomic import atomic_open
 from .spec import reason
 
 __all__ = ["write_plates", "arrange_files"]
@@ -31,7 +31,7 @@ def write_plates(pieces, names, build_volume, folder, *, spacing: float = 5.0, r
     >>> res["plates_used"], res["lower_bound"], sorted(p.name for p in d.iterdir())
     (2, 2, ['plate_01.stl', 'plate_02.stl', 'plates.json'])
     """
-    from ..export.meshes import write_mesh
+    from ..mesh.written import write_mesh
     from ..slicing.plates import arrange
     folder = Path(folder)
     plates = arrange(pieces, build_volume, spacing=spacing, rotate=rotate)

@@ -14,7 +14,7 @@ Cells are empty where a value does not apply (a body sherd has no rim EVE).
 Beside it, for the profile task, ``rim_diameters.png`` and
 ``rim_diameters.csv`` (`slicelab.viz.rims`): the rim diameters weighted by
 rim EVE, and the numbers drawn. They are written through a staging folder
-and listed in OUT's manifest (`slicelab.export.files.StagedFolder`), so a
+and listed in OUT's manifest (`slicelab.files.atomic.StagedFolder`), so a
 later batch of another task into the same OUT takes them away with it
 rather than leaving a chart that no longer matches the summary. Their names
 are reserved (`slicelab.tasks.outputs.RESERVED`): a folder of DIR on one of
@@ -25,7 +25,7 @@ from __future__ import annotations
 import csv
 from pathlib import Path
 
-from ..export.files import StagedFolder, atomic_open
+from ..files.atomic import StagedFolder, atomic_open
 from .jobs import JOBS
 from .outputs import output_names
 

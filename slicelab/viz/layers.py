@@ -267,7 +267,7 @@ def preview_png(plan, path, layers=None, *, pixels: int = 400) -> dict:
     >>> open(out, "rb").read(4)
     b'\\x89PNG'
     """
-    from ..export.files import atomic_path
+    from ..files.atomic import atomic_path
     from .canvas import Canvas
     n = len(plan.layers)
     if layers is None:

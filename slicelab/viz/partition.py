@@ -209,7 +209,7 @@ def save_exploded_png(pieces, path, *, title: str | None = None, pixels: int = 6
     >>> parts = partition(box((0, 0, 0), (300, 120, 80)), (200, 200, 200))
     >>> save_exploded_png(parts.pieces, os.path.join(tempfile.mkdtemp(), "p.png"))
     """
-    from ..export.files import atomic_path
+    from ..files.atomic import atomic_path
     from .canvas import Canvas
     img = exploded_image(pieces, pixels=pixels, **kwargs)
     rows, cols = img.shape[:2]

@@ -25,7 +25,7 @@ def save_plate_png(plates, k: int, pieces, path, *, names=None, dpi: int = 100) 
     from matplotlib.patches import PathPatch, Rectangle
     from matplotlib.path import Path as MplPath
 
-    from ..export.files import atomic_path
+    from ..files.atomic import atomic_path
     from ..slicing.plates import footprint
     X, Y, _ = plates.build_volume
     plate = plates.plates[k]

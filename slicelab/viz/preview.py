@@ -199,7 +199,7 @@ def save_split_preview(split, path, *, pixels: int = 500) -> dict:
     >>> open(out, "rb").read(4)
     b'\\x89PNG'
     """
-    from ..export.files import atomic_path
+    from ..files.atomic import atomic_path
     from .canvas import Canvas
     front, rear, extent = _panels(split, pixels)
     s0, s1, t0, t1 = extent

@@ -42,7 +42,7 @@ def profile_png(profile, path, *, dpi: float = 150.0, side: str = "left", spread
     from matplotlib.patches import PathPatch, Rectangle
     from matplotlib.path import Path as MplPath
 
-    from ..export.files import atomic_path
+    from ..files.atomic import atomic_path
     lay = layout(profile, side=side, spread=spread, label=label)
     x0, y0, x1, y1 = lay["page"]
     pt = 72.0 / 25.4  # points per mm

@@ -85,7 +85,7 @@ class RimChart:
         """Write `rows` as CSV, atomically."""
         import csv
 
-        from ..export.files import atomic_open
+        from ..files.atomic import atomic_open
         with atomic_open(path, "w", encoding="utf-8", newline="") as fh:
             w = csv.DictWriter(fh, CHART_COLUMNS)
             w.writeheader()
@@ -162,7 +162,7 @@ def rim_chart_png(chart: RimChart, path, *, title: str | None = None, dpi: float
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    from ..export.files import atomic_path
+    from ..files.atomic import atomic_path
     fig = Figure(figsize=(7.0, 4.0), dpi=dpi)
     FigureCanvasAgg(fig)
     ax = fig.add_subplot()

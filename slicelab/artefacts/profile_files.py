@@ -34,7 +34,7 @@ import threading
 
 import numpy as np
 
-from .files import atomic_open, atomic_path
+from ..files.atomic import atomic_open, atomic_path
 
 __all__ = ["profile_dxf", "profile_csv", "CSV_COLUMNS", "DXF_LAYERS"]
 

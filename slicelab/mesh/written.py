@@ -27,8 +27,9 @@ import numpy as np
 
 from ..geometry.topology import exact_ids
 from ..geometry.triangles import winding_normals
-from ..mesh import Mesh, MeshReport, check, save
-from ..mesh.io import write_binary_stl
+from .core import Mesh
+from .io import save, write_binary_stl
+from .validation import MeshReport, check
 
 __all__ = ["WrittenMesh", "write_mesh", "as_float32", "distinct_float32"]
 

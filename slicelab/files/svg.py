@@ -70,7 +70,7 @@ class SvgDrawing:
 
     See Also
     --------
-    slicelab.slicing.Section.svg, slicelab.artefacts.profile_svg, slicelab.export.write_svgs
+    slicelab.slicing.Section.svg, slicelab.artefacts.profile_svg, slicelab.gcode.write_svgs
     """
 
     def __init__(self, page, *, title: str | None = None, desc: str | None = None, digits: int = 4):
@@ -100,7 +100,7 @@ class SvgDrawing:
 
     def _each_path_data(self, polylines, closed: bool = False) -> list[str]:
         """Each polyline's path data ("" for one without points)."""
-        from ..gcode.text_kernels import path_data
+        from .numbers import path_data
         raw = [np.asarray(p, dtype=np.float64).reshape(-1, 2) for p in polylines]
         full = [i for i, x in enumerate(raw) if len(x)]
         out = [""] * len(raw)
@@ -182,6 +182,6 @@ class SvgDrawing:
 
     def write(self, path) -> None:
         """Write the document to `path`, atomically."""
-        from .files import atomic_open
+        from .atomic import atomic_open
         with atomic_open(path, "w", encoding="utf-8") as fh:
             fh.write(self.to_string())

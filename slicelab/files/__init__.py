@@ -1,0 +1,26 @@
+"""Files: written whole or not at all, numbers as text, the one SVG writer.
+
+A ground floor: it imports nothing of slicelab but `slicelab.geometry.compiled`
+(the compiled number formatter).
+
+==========================  =====================================================
+``files.atomic``            `atomic_path`, `atomic_open`, `same_file`, `StagedFolder`: no half-written file
+``files.numbers``           `put_number`, `path_data`: numbers written by compiled loops, as Python writes them
+``files.svg``               `SvgDrawing`: the one SVG writer of every drawing
+==========================  =====================================================
+
+See Also
+--------
+slicelab.mesh.written : STL whose report is the check of the file read back.
+slicelab.gcode : G-code, written with `files.numbers`.
+"""
+from __future__ import annotations
+
+from .._lazy import attach
+
+# Submodule of each public name: they load on first use (the number kernels compile on first call).
+_WHERE = {"atomic_path": "atomic", "atomic_open": "atomic", "same_file": "atomic", "StagedFolder": "atomic", "path_data": "numbers", "SvgDrawing": "svg"}
+
+__all__ = list(_WHERE)
+
+__getattr__, __dir__ = attach(__name__, _WHERE, globals())
