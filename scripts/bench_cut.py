@@ -30,6 +30,7 @@ One run each on a shared machine: noisy. Every step is linear in the facets.
 """
 from __future__ import annotations
 
+import argparse
 import sys
 import time
 from pathlib import Path
@@ -110,6 +111,8 @@ def main() -> int:
     if len(sys.argv) > 2 and sys.argv[1] == benchlib.CHILD_FLAG:
         child(*sys.argv[2:])
         return 0
+    # No options: `--help` prints the docstring before data/large/ is written or anything is timed.
+    argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter).parse_args()
     benchlib.ensure_large_data()
     script = str(Path(__file__).resolve())
     print("bench_cut: watertight cut into two capped parts; slicelab vs trimesh slice_plane(cap=True) on both "

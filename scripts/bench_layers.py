@@ -49,20 +49,29 @@ def _rss_kb() -> int:
     return 0
 
 
+def settings(p: float):
+    """The settings of every measured `layer_paths` call: 0.4 mm lines, 2 perimeters, 20% infill, `p` mm
+    pixels, each loop from its vertex nearest the nozzle."""
+    from slicelab.printing.config.settings import PrintSettings
+    return PrintSettings(line_width=0.4, n_perimeters=2, infill_density=0.2, pixel_size=p, seam_position="nearest")
+
+
 def child(path: str, z: float, p: float, repeat: int) -> dict:
     import shapely
     import slicelab
+    from slicelab.printing.config.settings import PrintSettings
+    from slicelab.printing.pipeline import layer_paths, plan_layer
     mesh = slicelab.load(path)
     s = slicelab.section(mesh, (0, 0, z), (0, 0, 1))
-    slicelab.layer_paths(s, slicelab.PrintSettings(pixel_size=0.1))  # warm imports
+    layer_paths(s, PrintSettings(pixel_size=0.1))  # warm imports
     before = _rss_kb()
     times = []
     for _ in range(repeat):
         t0 = time.perf_counter()
-        lp = slicelab.layer_paths(s, 0.4, 2, 0.2, pixel_size=p)
+        lp = layer_paths(s, settings(p))
         times.append(time.perf_counter() - t0)
     peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss - before
-    per = slicelab.printing.pipeline.plan_layer(s, slicelab.PrintSettings(pixel_size=p)).walls
+    per = plan_layer(s, settings(p)).walls
     shape = s.to_shapely()
     hd, area = [], []
     for k, level in enumerate(per.levels):
@@ -92,11 +101,12 @@ def ring_section(radius: float, wall: float = WALL, step: float = 0.5):
 def ring_table(repeat: int) -> None:
     """Time and pixels held per layer for rings of growing radius, and the fitted exponent."""
     import numpy as np
-    import slicelab
-    p = slicelab.slicelab.PrintSettings().pixel_size
+    from slicelab.printing.config.settings import PrintSettings
+    from slicelab.printing.pipeline import layer_paths, plan_layer
+    p = PrintSettings().pixel_size
     print(f"\nring of {WALL:g} mm wall, layer_paths at {p:g} mm pixels (median of {repeat} runs)")
     print(f"{'radius mm':>10}{'time ms':>10}{'x prev':>8}{'px held':>11}{'x prev':>8}{'box px':>12}")
-    slicelab.layer_paths(ring_section(RADII[0]), slicelab.PrintSettings(pixel_size=p))  # warm imports
+    layer_paths(ring_section(RADII[0]), PrintSettings(pixel_size=p))  # warm imports
     times, held = [], []
 
     def ratio(xs):
@@ -107,9 +117,9 @@ def ring_table(repeat: int) -> None:
         runs = []
         for _ in range(repeat):
             t0 = time.perf_counter()
-            lp = slicelab.layer_paths(s, 0.4, 2, 0.2, pixel_size=p)
+            lp = layer_paths(s, settings(p))
             runs.append(time.perf_counter() - t0)
-        fields = slicelab.printing.pipeline.plan_layer(s, slicelab.PrintSettings(pixel_size=p)).walls.fields
+        fields = plan_layer(s, settings(p)).walls.fields
         times.append(statistics.median(runs))
         held.append(sum(f.grid.pixels for f in fields))
         box = sum(f.grid.shape[0] * f.grid.shape[1] for f in fields)
@@ -124,27 +134,28 @@ def skin_table(repeat: int) -> None:
     """The same rings as a top skin (their whole area solid, filled with lines): time per layer and
     the share of it in the solid filling's gap fill (`_solid_gaps`), by radius, and the exponent."""
     import numpy as np
-    import slicelab
-    from slicelab.printing import paths
-    from slicelab.printing.steps.perimeters import perimeter_band
+    from slicelab.printing.config.settings import PrintSettings
     from slicelab.printing.grid.raster import rasterize
+    from slicelab.printing.pipeline import LayerInputs, layer_paths
+    from slicelab.printing.steps import filling
+    from slicelab.printing.steps.perimeters import perimeter_band
     from profile_layers import timing  # (scripts/ is on the path when a script runs)
-    p = slicelab.slicelab.PrintSettings().pixel_size
+    p = PrintSettings().pixel_size
     band = perimeter_band(0.4, 2, 0.15, p)
     print(f"\nthe ring as a top skin (all of it solid), layer_paths at {p:g} mm pixels (median of {repeat} runs)")
     print(f"{'radius mm':>10}{'time ms':>10}{'x prev':>8}{'gaps ms':>10}")
     spent = []
     times, gap_times = [], []
-    with timing(paths, "_solid_gaps", lambda a, k, t: spent.append(t)):
+    with timing(filling, "_solid_gaps", lambda a, k, t: spent.append(t)):
         for radius in RADII:
             s = ring_section(radius)
             r = rasterize(s, p, band=band)
-            slicelab.layer_paths(s, slicelab.PrintSettings(pixel_size=p), slicelab.printing.pipeline.LayerInputs(raster=r, solid=r.combined()))  # warm
+            layer_paths(s, settings(p), LayerInputs(raster=r, solid=r.combined()))  # warm
             runs, gaps = [], []
             for _ in range(repeat):
                 spent.clear()
                 t0 = time.perf_counter()
-                slicelab.layer_paths(s, slicelab.PrintSettings(pixel_size=p), slicelab.printing.pipeline.LayerInputs(raster=r, solid=r.combined()))
+                layer_paths(s, settings(p), LayerInputs(raster=r, solid=r.combined()))
                 runs.append(time.perf_counter() - t0)
                 gaps.append(sum(spent))
             times.append(statistics.median(runs))
@@ -160,18 +171,20 @@ def skin_table(repeat: int) -> None:
 def pot_time(repeat: int) -> None:
     """The pot's layer at mid-height with the defaults (0.2 mm pixels), and at 0.1 and 0.05 mm: median times."""
     import slicelab
+    from slicelab.printing.config.settings import PrintSettings
+    from slicelab.printing.pipeline import layer_paths, plan_layer
     path = ROOT / "data" / "pot.stl"
     if not path.exists():
         return
     s = slicelab.section(slicelab.load(path), (0, 0, 60.0), (0, 0, 1))
-    slicelab.layer_paths(s)  # warm imports
-    for p in (slicelab.slicelab.PrintSettings().pixel_size, 0.1, 0.05):
+    layer_paths(s)  # warm imports
+    for p in (PrintSettings().pixel_size, 0.1, 0.05):
         runs = []
         for _ in range(max(repeat, 3)):
             t0 = time.perf_counter()
-            lp = slicelab.layer_paths(s, 0.4, 2, 0.2, pixel_size=p)
+            lp = layer_paths(s, settings(p))
             runs.append(time.perf_counter() - t0)
-        walls = slicelab.printing.pipeline.plan_layer(s, slicelab.PrintSettings(pixel_size=p)).walls
+        walls = plan_layer(s, settings(p)).walls
         held = sum(f.grid.pixels for f in walls.fields)
         box = sum(f.grid.shape[0] * f.grid.shape[1] for f in walls.fields)
         print(f"\npot layer (z = 60 mm, {p:g} mm pixels): {1000 * statistics.median(runs):.0f} ms "

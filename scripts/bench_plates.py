@@ -16,9 +16,12 @@ Reference, where `prusa-slicer` is installed: `prusa-slicer --export-stl --merge
 --bed-shape ...` arranges the same pieces on its one bed and merges them; the
 comparison is the extent of its arrangement (does it fit one bed?) against
 slicelab's plate count.
+
+    .venv/bin/python scripts/bench_plates.py --object pot   # the pot sample only (seconds, not minutes)
 """
 from __future__ import annotations
 
+import argparse
 import shutil
 import subprocess
 import sys
@@ -35,10 +38,16 @@ import slicelab  # noqa: E402
 from slicelab.slicing import arrange  # noqa: E402
 
 
-def _objects():
+#: The objects by the name ``--object`` takes.
+OBJECTS = ("pot", "metre")
+
+
+def _objects(names=OBJECTS):
     pot = slicelab.load(ROOT / "data" / "pot.stl")
     metre = pot.transformed(np.diag([1000 / 120] * 3 + [1.0]))
-    return [("pot sample, cut for an 80 mm cube", pot, (80.0, 80.0, 80.0)), ("1-metre pot", metre, None)]
+    objects = {"pot": ("pot sample, cut for an 80 mm cube", pot, (80.0, 80.0, 80.0)),
+               "metre": ("1-metre pot", metre, None)}
+    return [objects[name] for name in OBJECTS if name in names]
 
 
 def _prusa_span(prusa: str, pieces, volume):
@@ -60,7 +69,11 @@ def _prusa_span(prusa: str, pieces, volume):
         return float(hi[0] - lo[0]), float(hi[1] - lo[1])
 
 
-def main() -> int:
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--object", action="append", choices=OBJECTS,
+                    help="only this object (repeatable): the pot sample or the 1-metre pot; default both")
+    args = ap.parse_args(argv)
     prusa = shutil.which("prusa-slicer") or shutil.which("prusaslicer")
     print("bench_plates: partition, then arrange the pieces onto build plates (spacing 5 mm)")
     if prusa is None:
@@ -68,7 +81,7 @@ def main() -> int:
     printers = [(200.0, 200.0, 200.0), (250.0, 210.0, 210.0)]
     print(f"\n{'object':<36} {'printer (mm)':<14} {'pieces':>6} {'plates':>6} {'bound':>5} "
           f"{'1/plate':>7} {'fill %':>6} {'time s':>7}  reference")
-    for name, mesh, cut_volume in _objects():
+    for name, mesh, cut_volume in _objects(args.object or OBJECTS):
         for volume in printers:
             parts = slicelab.partition(mesh, cut_volume or volume)
             pieces = list(parts.pieces)
