@@ -1,18 +1,18 @@
 """Where a layer's time goes: 100 layers of a part (from a quarter up, or `--first`) planned in this process, timed, then profiled.
 
-The layers go through the planner's own per-run function (`slicelab.printing.planner`),
+The layers go through the planner's own per-run function (`slicelab.printing.runs.run_layers`),
 runs of 20 layers with the neighbours their skins read, as a pool's worker gets them,
 with `slicelab slice`'s defaults and 3 top and bottom layers. Prints the milliseconds per
 layer (median of three passes, no profiler), the milliseconds per layer of each stage (one
 more pass, each stage's function timed where the planner and the perimeters call it; the
-stages nest: the perimeters' parts are inside `layer_paths`), then cProfile's functions by
+stages nest: the perimeters' parts are inside `plan_layer`), then cProfile's functions by
 their own time and by cumulative time. No reference tool: this says where slicelab's time goes, and
 `scripts/bench_slice.py` compares the whole command with PrusaSlicer. Cost: linear in the
 layers profiled.
 
 ``--costs`` prints instead how many layers the planner plans afresh and how many it takes from the
 layer two below (layers that repeat), and how each layer planned afresh's time (planning the whole
-part in one process) follows the terms of the planner's estimate of a layer's cost, which orders the runs of layers handed to the
+part in one process, each layer's `plan_layer`) follows the terms of the planner's estimate of a layer's cost, which orders the runs of layers handed to the
 workers: the least-squares fit of the time to the boundary's length and the skin's area, the
 skin's weight it implies, and the costliest layers. ``--scale S`` scales the part to S mm first.
 
@@ -112,22 +112,23 @@ def accuracy(mesh, sizes=(0.1, 0.15, 0.2)) -> None:
 
 
 def costs(mesh, s) -> None:
-    """Each layer's time (its `layer_paths`, where its skins are filled) against the terms of the
+    """Each layer's time (its `plan_layer`, where its skins are filled) against the terms of the
     planner's estimate of its cost, which orders the runs handed to the workers: the least-squares
     fit of time = a x boundary + b x skin + c, and the skin's weight b / a."""
     import numpy as np
 
     from slicelab.slicing.sections import slice_layers
-    from slicelab.printing import paths, planner, schedule
+    from slicelab.printing import _schedule as schedule
+    from slicelab.printing import pipeline, planner
     spent = {}
-    with timing(paths, "layer_paths", lambda a, k, t: spent.__setitem__(k["layer_index"], 1000 * t)):
+    with timing(pipeline, "plan_layer", lambda a, k, t: spent.__setitem__(a[2].index, 1000 * t)):
         planner.plan(mesh, s, workers=1)  # imports, compiled kernels
         spent.clear()
         planner.plan(mesh, s, workers=1)
     lo, hi = mesh.bounds
     bounds = planner.layer_bounds(float(hi[2] - lo[2]), s.layer_height, s.first_layer_height)
     length, skin = schedule.layer_costs(slice_layers(mesh, heights=lo[2] + bounds.mean(axis=1)), s)
-    # Layers that repeat take the toolpaths of the layer two below (no layer_paths call): only the
+    # Layers that repeat take the toolpaths of the layer two below (no plan_layer call): only the
     # layers planned afresh are fitted.
     afresh = np.array(sorted(spent), dtype=np.int64)
     n = len(length)
@@ -137,7 +138,7 @@ def costs(mesh, s) -> None:
     (a, b, c), *_ = np.linalg.lstsq(x, ms, rcond=None)
     r2 = 1 - float(((ms - x @ (a, b, c)) ** 2).sum() / max(((ms - ms.mean()) ** 2).sum(), 1e-300))
     print(f"{n} layers: {len(afresh)} planned afresh, {n - len(afresh)} taken from the layer two below "
-          f"or from the start of an earlier run (layers that repeat); {ms.sum() / 1000:.2f} s in layer_paths, "
+          f"or from the start of an earlier run (layers that repeat); {ms.sum() / 1000:.2f} s in plan_layer, "
           "one process")
     print(f"ms per layer = {a:.5f} x boundary mm + {b:.6f} x skin mm^2 + {c:.2f} (R^2 {r2:.2f}); skin weight "
           f"b / a = {b / a:.2f} (the planner uses {schedule.SKIN_COST})")
@@ -151,6 +152,7 @@ def main() -> None:
     from slicelab.slicing.sections import slice_layers
     from slicelab.printing import planner
     from slicelab.printing.config.settings import PrintSettings
+    from slicelab.printing.runs import RunJob, run_layers
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("mesh", nargs="?", default=str(ROOT / "data" / "pot.stl"))
@@ -191,7 +193,7 @@ def main() -> None:
     def plan_runs():
         for a, b in runs:
             window = {j: sections[j] for j in range(max(0, a - s.bottom_layers - 1), min(n, b + s.top_layers))}
-            planner._run_chunk(a, b, n, window, bounds[a:b, 1], s, repeat_tolerance=tol)
+            run_layers(RunJob(a, b, n, window, bounds[a:b, 1], s, tol))
 
     plan_runs()  # imports, compiled kernels
     layers = stop - first
@@ -202,7 +204,7 @@ def main() -> None:
         times.append((time.perf_counter() - t) * 1000 / layers)
     print(f"{Path(args.mesh).name}: {layers} layers from {first}: {statistics.median(times):.1f} ms per layer "
           f"(median of 3, one process)")
-    print("ms per layer by stage (one pass; the perimeters' stages and the infill are part of layer_paths):")
+    print("ms per layer by stage (one pass; the perimeters' stages and the infill are part of plan_layer):")
     for name, ms in stage_times(plan_runs, layers):
         print(f"  {name:<20}{ms:7.2f}")
     prof = cProfile.Profile()

@@ -242,7 +242,7 @@ def _run_slice(args) -> int:
 
 def _on_one_bed(args, params):
     """The parts of several files side by side on the printer's bed, upright as given: one mesh."""
-    from .. import load
+    from ..mesh import load
     from ..slicing.plates import arrange
     from ..tasks.fabrication import slice_settings
     from ..tasks.jobs import job_parameters

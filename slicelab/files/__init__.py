@@ -16,11 +16,8 @@ slicelab.gcode : G-code, written with `files.numbers`.
 """
 from __future__ import annotations
 
-from .._lazy import attach
+from .._lazy import attach_stub
 
-# Submodule of each public name: they load on first use (the number kernels compile on first call).
-_WHERE = {"atomic_path": "atomic", "atomic_open": "atomic", "same_file": "atomic", "StagedFolder": "atomic", "path_data": "numbers", "SvgDrawing": "svg"}
-
-__all__ = list(_WHERE)
-
-__getattr__, __dir__ = attach(__name__, _WHERE, globals())
+# The public names and their submodules are listed once, in __init__.pyi; each submodule loads
+# the first time one of its names is used.
+__getattr__, __dir__, __all__ = attach_stub(__name__, __file__)

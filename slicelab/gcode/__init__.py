@@ -10,13 +10,8 @@
 """
 from __future__ import annotations
 
-from .._lazy import attach
+from .._lazy import attach_stub
 
-# Submodule of each public name: they load on first use.
-_WHERE = {"write_gcode": "writer", "gcode_lines": "writer", "header_value": "writer", "layer_fan": "writer",
-          "layer_texts": "writer", "write_svgs": "layer_svgs", "layer_drawings": "layer_svgs",
-          "svg_page": "layer_svgs", "move_times": "estimate", "format_duration": "estimate"}
-
-__all__ = list(_WHERE)
-
-__getattr__, __dir__ = attach(__name__, _WHERE, globals())
+# The public names and their submodules are listed once, in __init__.pyi; each submodule loads
+# the first time one of its names is used.
+__getattr__, __dir__, __all__ = attach_stub(__name__, __file__)

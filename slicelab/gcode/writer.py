@@ -29,7 +29,8 @@ import numpy as np
 
 from .estimate import format_duration, move_times
 from ..printing.config.settings import settings_dict
-from ..printing.config.printers import MARLIN_END, MARLIN_START, render_gcode
+from ..printing.config.printers import MARLIN_END, MARLIN_START
+from ..printing.config.settings import render_gcode
 from ..files.atomic import atomic_open
 from .layer_inputs import CompiledLayer, WriterSettings
 

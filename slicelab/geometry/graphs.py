@@ -66,10 +66,10 @@ def thinning_table(rule) -> np.ndarray:
     Parameters
     ----------
     rule : callable
-        ``rule(p2, p3, ..., p9, first)`` -> bool array: whether the first
-        (`first` True) or second subiteration removes the pixel. Each p is an
-        array over the 256 codes of one neighbour (0 or 1), clockwise from the
-        north: N, NE, E, SE, S, SW, W, NW.
+        ``rule(p, first)`` -> bool array: whether the first (`first` True)
+        or second subiteration removes the pixel. ``p`` holds the eight
+        neighbours ``p2, ..., p9`` of the thinning papers, each an array over
+        the 256 codes (0 or 1), clockwise from the north: N, NE, E, SE, S, SW, W, NW.
 
     Returns
     -------
@@ -77,10 +77,11 @@ def thinning_table(rule) -> np.ndarray:
     """
     codes = np.arange(256)
     p = [(codes >> i) & 1 for i in range(8)]
-    return (np.asarray(rule(*p, True), bool) * 1 + np.asarray(rule(*p, False), bool) * 2).astype(np.uint8)
+    return (np.asarray(rule(p, True), bool) * 1 + np.asarray(rule(p, False), bool) * 2).astype(np.uint8)
 
 
-def _guo_hall(p2, p3, p4, p5, p6, p7, p8, p9, first):
+def _guo_hall(p, first):
+    p2, p3, p4, p5, p6, p7, p8, p9 = p
     # C: the number of 8-connected groups of set neighbours that a removal would part;
     # N: how many neighbours (paired) the pixel has, from 2 (not an end) to 3 (on the border).
     c = ((p2 == 0) & ((p3 | p4) == 1)) * 1 + ((p4 == 0) & ((p5 | p6) == 1)) + ((p6 == 0) & ((p7 | p8) == 1)) \

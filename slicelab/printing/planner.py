@@ -22,7 +22,7 @@ import gc
 import math
 import os
 import sys
-from dataclasses import astuple, dataclass, field, replace
+from dataclasses import astuple, dataclass, field
 from functools import cached_property, partial
 
 import numpy as np
@@ -31,6 +31,7 @@ from ..mesh.core import Mesh
 from .config.bed import check_bed, footprint_extent
 from .fill import PATTERNS
 from ._reuse import RunStart, same_point
+from .runs import RUN_LAYERS, START_LAYERS, RunJob, run_layers
 from .config.settings import PrintSettings
 from .pipeline import AREA_FIELDS, OVERHANG_FIELDS, records
 
@@ -198,105 +199,8 @@ class PrintPlan:
         return float(np.sum(self.heights * ((total - inner) + solid + d * (inner - solid) + links)))
 
 
-# ------------------------------------------------------------------ workers
-_RUN = 20  # layers over which the nozzle is carried (seams), the paths' unit of work
-_START = 6  # first layers of a run made once for the runs that start alike (their toolpaths settle by then)
-_GROUP = 5  # runs per call at most: a worker's call holds the rasters of its layers' neighbours
-
-
-def _run_chunk(first: int, stop: int, n: int, window: dict, z_tops: np.ndarray, s: PrintSettings,
-               layer_text=None, heights=None, layer_drawing=None, extent=None, repeat_tolerance: float = 1e-9,
-               starts: dict | None = None, seams=None, state: dict | None = None) -> list:
-    """The `LayerResult` of layers first..stop-1 of n (with, given `layer_text` and `layer_drawing`,
-    their text and drawings: see `plan`).
-
-    `window` maps a layer's index to its section for these layers and the
-    `bottom_layers` below and `top_layers` above them (their skins need them);
-    `z_tops` are the tops of these layers. The nozzle is carried from one layer to the
-    next within each run of `_RUN` layers (and from `first`) and starts afresh at each run,
-    so the paths do not depend on how runs are grouped into calls. Each layer runs the steps of
-    `slicelab.printing.pipeline` (`layer_inputs`, `plan_layer`, `finish_layer`). Around them, a
-    memo (`slicelab.printing._reuse.Repeats`): a layer of a prismatic stretch takes what the
-    layer two below made when all it depends on is the same (outlines within `repeat_tolerance`
-    mm), within a run of layers; a run that starts as an earlier one did takes its first layers
-    from `starts` (run start -> `RunStart`). `seams` are the seam points of these layers
-    (`slicelab.printing.seams.seam_targets`, None where loops start nearest the nozzle or at the
-    rear). Everything comes as arguments: a pool's worker needs no state from the parent.
-    `state`, if given, receives the nozzle's position, what the memo keeps and the solid skin
-    after the last layer.
-    """
-    from ._reuse import Repeats
-    from .pipeline import LayerResult, LayerWindow, OverhangSummary, at_height, finish_layer, layer_inputs, plan_layer
-    from .steps.simplify import simplify_paths
-    from .steps.skins import layer_skins
-    from .steps.skirt import skirt_loops
-    # Layers whose toolpaths the layer two above may take (not when the infill changes with height).
-    repeats = Repeats(window, n, (s.bottom_layers + 1, s.top_layers), repeat_tolerance,
-                      enabled=not PATTERNS[s.infill_pattern].varies_with_z or s.infill_density == 0)
-    grid = LayerWindow(window, n, s)
-    out = []
-    grid.reach(first)  # (the skins of layer first - 1 read no further)
-    below_solid = layer_skins(first - 1, grid.masks, s.skins, s.line_width)[0] if first > 0 else None
-    resume = first
-    for k in range(first, stop):  # over layers
-        if k < resume:
-            continue
-        seam = seams[k - first] if seams is not None else None
-        if k == first or k % _RUN == 0:  # a run starts: the nozzle afresh
-            pos = None
-            repeats.clear()
-            alike = starts.get(k) if starts else None
-            if alike is not None:  # a run that starts as an earlier one: what it made, at these heights
-                for i, r in enumerate(alike.layers):
-                    out.append(replace(r, index=k + i, paths=at_height(r.paths, z_tops[k + i - first])))
-                pos, below_solid = alike.pos, alike.below_solid
-                repeats.kept.update(alike.kept)
-                resume = k + len(alike.layers)
-                continue
-        taken = repeats.take(k, pos, seam)  # (a steady layer: before its raster and skins)
-        if taken is not None:  # the layer two below again: the same toolpaths, at this height
-            lp, _, areas, held = taken
-            items = list(lp.ordered())
-            pos = items[-1][1][-1] if items else pos
-            below_solid = None
-            out.append(LayerResult(k, at_height(lp, z_tops[k - first]), areas, held))
-            continue
-        at, below = pos, seam
-        grid.reach(k)  # (a layer that took the toolpaths below needs no raster, only its mask if a neighbour reads it)
-        inputs, ov, solid = layer_inputs(k, grid, s, below_solid)
-        below_solid = solid
-        skirt = brim = ()
-        if k == 0:
-            skirt, brim = skirt_loops(window[0], s.line_width, loops=s.skirt_loops, distance=s.skirt_distance,
-                                      brim_width=s.brim_width)
-            skirt, brim = (simplify_paths(q, s.gcode_resolution) for q in (skirt, brim))
-            if skirt or brim:
-                pos = (list(skirt) + list(brim))[-1][-1]
-        # With no bridge and nothing unheld, a layer with the outline, skins, start and seam of the
-        # layer two below makes what it made (a step within the skins' reach above or below).
-        plain = k > 0 and not inputs.bridges and not (ov is not None and len(ov.unheld))
-        made = repeats.take(k, pos, seam, (inputs.solid, inputs.top)) if plain else None
-        if made is not None:
-            _, lp, areas, _ = made  # (its toolpaths before the layer below marked them)
-        else:
-            planned = plan_layer(window[k], s, inputs, start=pos, seam=seam)
-            lp, areas = planned.paths, planned.areas
-        unmarked = lp
-        lp = finish_layer(k, grid, s, lp, skirt, brim)
-        items = list(lp.ordered())
-        if items:
-            pos = items[-1][1][-1]
-        held = OverhangSummary.of(ov)
-        if plain:  # for the layer two above: the toolpaths as marked here and before marking
-            repeats.keep(k, at, below, (inputs.solid, inputs.top), (lp, unmarked, areas, held))
-        out.append(LayerResult(k, at_height(lp, z_tops[k - first]), areas, held,
-                               ov.unheld if ov is not None else ()))
-    if state is not None:
-        state.update(pos=pos, kept=dict(repeats.kept), below_solid=below_solid)
-    layers = [r.paths for r in out]
-    texts = [None] * len(out) if layer_text is None else layer_text(first, layers, heights)
-    drawings = [None] * len(out) if layer_drawing is None else layer_drawing(layers, extent)
-    return [replace(r, text=t, drawing=d) for r, t, d in zip(out, texts, drawings)]
+# Runs per call at most: a worker's call holds the rasters of its layers' neighbours.
+_GROUP = 5
 
 
 def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | None = None,
@@ -362,8 +266,6 @@ def plan(mesh: Mesh, settings: PrintSettings | None = None, *, workers: int | No
 def _plan(mesh: Mesh, s: PrintSettings, sunk: float, *, workers, progress, layer_text, layer_drawing) -> PrintPlan:
     """`plan`, the part lowered `sunk` mm into the bed."""
     import time
-
-    from ..slicing.sections import slice_layers
     t0 = time.perf_counter()
     if len(mesh) == 0:
         raise ValueError("the mesh has no facets: nothing to print")
@@ -373,105 +275,23 @@ def _plan(mesh: Mesh, s: PrintSettings, sunk: float, *, workers, progress, layer
     bounds = layer_bounds(float(hi[2] - lo[2]), s.layer_height, s.first_layer_height)
     if len(bounds) == 0:
         raise ValueError("the part is flat: nothing to print")
-    # The modules the layers need load on a thread while the part is sliced (numpy lets go of
-    # the GIL): forked workers then inherit them instead of importing each.
-    # Loading them creates some 100,000 long-lived objects, and the garbage collector would walk
-    # them all a few times over (0.2 s): it pauses meanwhile.
-    import threading
-    collecting = gc.isenabled()
-    gc.disable()
-    try:
-        warm = threading.Thread(target=_warm_imports, daemon=True)
-        warm.start()
-        sections = slice_layers(mesh, heights=lo[2] + bounds.mean(axis=1))
-        warm.join()
-    finally:
-        if collecting:
-            gc.enable()
+    sections = _sections(mesh, lo[2] + bounds.mean(axis=1))
     check_bed(mesh, s, first_layer=sections[0])
     t1 = time.perf_counter()
-    n = len(sections)
     workers = (os.cpu_count() or 1) if workers is None else max(1, int(workers))
-    z_tops = bounds[:, 1]
-
     heights = bounds[:, 1] - bounds[:, 0]
     offset = np.array([s.centre[0] - (lo[0] + hi[0]) / 2, s.centre[1] - (lo[1] + hi[1]) / 2, -lo[2]])
-    text = None if layer_text is None or s.support != "off" else partial(layer_text, settings=s, offset=offset)
-    drawing = None if s.support != "off" else layer_drawing
     extent = footprint_extent(lo[:2], hi[:2], sections[0], s)
     # Seams: one pass up the whole part before any layer is planned (`slicelab.printing.seams`).
     from .seams import seam_targets
-    seams = seam_targets(sections) if s.seam_position == "aligned" else [None] * n
+    seams = seam_targets(sections) if s.seam_position == "aligned" else [None] * len(sections)
     # Layers of a prism differ by the float32 rounding of the file's coordinates (walls lean by it).
     from ..mesh.repairs import default_tolerance
-    tol = default_tolerance(mesh)
-
-    # Runs that start as an earlier one did (steady layers, the same outline): their first layers
-    # are made once, here, for all of them (`make_starts`).
-    from ._reuse import outline_size, run_starts, start_candidates
-    size = [outline_size(sec) for sec in sections]  # over layers: their areas and boundaries, once
-    reach = (s.bottom_layers + 1, s.top_layers)
-    repeating = not PATTERNS[s.infill_pattern].varies_with_z or s.infill_density == 0
-    maybe = set(start_candidates(dict(enumerate(sections)), n, reach, tol, _RUN, _START, size)) if repeating \
-        else set()
-    alike, made = {}, {}
-
-    def job(a, b, text=text, drawing=drawing):
-        """The arguments of run a..b-1: its layers, the neighbours its skins look at and the first
-        layers of its runs that start as an earlier one."""
-        lo, hi = max(0, a - s.bottom_layers - 1), min(n, b + s.top_layers)  # (the skins of a - 1 too)
-        starts = {k: made[alike[k]] for k in range(a, b) if k in alike and alike[k] in made}
-        return (a, b, n, {j: sections[j] for j in range(lo, hi)}, z_tops[a:b], s, text, heights[a:b], drawing,
-                extent, tol, starts, seams[a:b])
-
-    def make_starts():
-        if maybe:
-            found = run_starts(dict(enumerate(sections)), n, reach, tol, _RUN, _START, sorted(maybe))
-            # (and the same seams: the pass up the part found them at the same places)
-            alike.update({k: k0 for k, k0 in found.items()
-                          if all(same_point(seams[k + i], seams[k0 + i], tol) for i in range(_START))})
-        for k0 in sorted(set(alike.values())):  # over the outlines of the steady stretches, few
-            state = {}
-            rows = _run_chunk(*job(k0, k0 + _START, None, None), state=state)
-            made[k0] = RunStart(tuple(rows), state["pos"], state["kept"], state["below_solid"])
-
-    def may_need_starts(chunk):
-        return any(k in maybe for k in range(chunk[0], chunk[1], _RUN))
-
-    results = []
-    # Fixed runs of layers, whatever the number of workers: a run carries the nozzle from
-    # one layer to the next (seams), so the same runs give the same G-code in series. Runs go
-    # to the workers a few at a time (each rasterises its neighbours once), in enough calls
-    # for the workers to share them evenly.
-    runs = -(-n // _RUN)
-    group = max(1, min(_GROUP, runs // (3 * workers))) if workers > 1 else _GROUP
-    chunks = [(a, min(n, a + group * _RUN)) for a in range(0, n, group * _RUN)]
-    if workers == 1 or len(chunks) == 1:
-        bar = _bar(n, progress)
-        make_starts()
-        for a, b in chunks:
-            results += _run_chunk(*job(a, b))
-            bar.update(b - a)
-        bar.close()
-    else:
-        from concurrent.futures import as_completed
-
-        from .._pools import process_pool
-        from ._schedule import costliest_first
-        bar = _bar(n, progress)
-        order = costliest_first(chunks, sections, s, tol, size)
-        with process_pool(workers) as pool:
-            # The runs that cannot start alike go first: the workers plan them while the others'
-            # first layers are made here.
-            futures = {pool.submit(_run_chunk, *job(a, b)): (a, b) for a, b in order if not may_need_starts((a, b))}
-            make_starts()
-            futures.update({pool.submit(_run_chunk, *job(a, b)): (a, b) for a, b in order if may_need_starts((a, b))})
-            for fut in as_completed(futures):
-                results += fut.result()
-                a, b = futures[fut]
-                bar.update(b - a)
-        bar.close()
-    results.sort(key=lambda r: r.index)
+    # Supports are added to the layers afterwards: the workers then neither format nor draw them.
+    part = _Part(sections, bounds[:, 1], heights, s, default_tolerance(mesh), seams, extent,
+                 None if layer_text is None or s.support != "off" else partial(layer_text, settings=s, offset=offset),
+                 None if s.support != "off" else layer_drawing)
+    results = _planned(part, workers, progress)
     layers = [r.paths for r in results]
     if not any(k not in ("skirt", "brim") for lp in layers for k in lp.kind):
         size = " x ".join(f"{v:.3g}" for v in hi - lo)
@@ -491,6 +311,118 @@ def _plan(mesh: Mesh, s: PrintSettings, sunk: float, *, workers, progress, layer
     t2 = time.perf_counter()
     return PrintPlan(s, layers, heights, offset, areas, float(np.sum(areas["material"] * heights)),
                      {"slice": t1 - t0, "paths": t2 - t1}, overhangs, texts, extent, drawings, sunk)
+
+
+def _sections(mesh: Mesh, heights: np.ndarray) -> list:
+    """The part's sections at `heights`, while the modules the layers need load on a thread."""
+    import threading
+
+    from ..slicing.sections import slice_layers
+    # Numpy lets go of the GIL while it slices: forked workers then inherit the modules instead
+    # of importing each. Loading them creates some 100,000 long-lived objects, and the garbage
+    # collector would walk them all a few times over (0.2 s): it pauses meanwhile.
+    collecting = gc.isenabled()
+    gc.disable()
+    try:
+        warm = threading.Thread(target=_warm_imports, daemon=True)
+        warm.start()
+        sections = slice_layers(mesh, heights=heights)
+        warm.join()
+    finally:
+        if collecting:
+            gc.enable()
+    return sections
+
+
+@dataclass(frozen=True, eq=False)
+class _Part:
+    """What every run of a part reads: its sections, heights and seams, and the outputs asked for."""
+
+    sections: list
+    z_tops: np.ndarray
+    heights: np.ndarray
+    settings: PrintSettings
+    tolerance: float
+    seams: list
+    extent: tuple
+    layer_text: object = None
+    layer_drawing: object = None
+
+    def job(self, a: int, b: int, starts: dict, outputs: bool = True) -> RunJob:
+        """Run a..b-1: its layers, the neighbours its skins read (those of a - 1 too), and the first
+        layers of its runs that start as an earlier one (`starts`)."""
+        s, n = self.settings, len(self.sections)
+        lo, hi = max(0, a - s.bottom_layers - 1), min(n, b + s.top_layers)
+        return RunJob(a, b, n, {j: self.sections[j] for j in range(lo, hi)}, self.z_tops[a:b], s, self.tolerance,
+                      {k: starts[k] for k in range(a, b) if k in starts}, self.seams[a:b], self.heights[a:b],
+                      self.extent, self.layer_text if outputs else None, self.layer_drawing if outputs else None)
+
+
+def _planned(part: _Part, workers: int, progress) -> list:
+    """Every layer's `LayerResult`, bottom to top: runs of layers on `workers` processes.
+
+    Fixed runs of layers, whatever the number of workers: a run carries the nozzle from one
+    layer to the next (seams), so the same runs give the same G-code in series. Runs go to the
+    workers a few at a time (each rasterises its neighbours once), in enough calls for the
+    workers to share them evenly.
+    """
+    from ._reuse import outline_size, start_candidates
+    s, n = part.settings, len(part.sections)
+    size = [outline_size(sec) for sec in part.sections]  # over layers: their areas and boundaries, once
+    repeating = not PATTERNS[s.infill_pattern].varies_with_z or s.infill_density == 0
+    reach = (s.bottom_layers + 1, s.top_layers)
+    maybe = set(start_candidates(dict(enumerate(part.sections)), n, reach, part.tolerance, RUN_LAYERS,
+                                 START_LAYERS, size)) if repeating else set()
+    runs = -(-n // RUN_LAYERS)
+    group = max(1, min(_GROUP, runs // (3 * workers))) if workers > 1 else _GROUP
+    chunks = [(a, min(n, a + group * RUN_LAYERS)) for a in range(0, n, group * RUN_LAYERS)]
+    bar = _bar(n, progress)
+    results = []
+    if workers == 1 or len(chunks) == 1:
+        starts = _run_starts(part, maybe)
+        for a, b in chunks:
+            results += run_layers(part.job(a, b, starts))
+            bar.update(b - a)
+    else:
+        from concurrent.futures import as_completed
+
+        from .._pools import process_pool
+        from ._schedule import costliest_first
+        order = costliest_first(chunks, part.sections, s, part.tolerance, size)
+        later = [c for c in order if any(k in maybe for k in range(c[0], c[1], RUN_LAYERS))]
+        with process_pool(workers) as pool:
+            # The runs that cannot start alike go first: the workers plan them while the others'
+            # first layers are made here.
+            futures = {pool.submit(run_layers, part.job(a, b, {})): (a, b) for a, b in order if (a, b) not in later}
+            starts = _run_starts(part, maybe)
+            futures.update({pool.submit(run_layers, part.job(a, b, starts)): (a, b) for a, b in later})
+            for fut in as_completed(futures):
+                results += fut.result()
+                a, b = futures[fut]
+                bar.update(b - a)
+    bar.close()
+    results.sort(key=lambda r: r.index)
+    return results
+
+
+def _run_starts(part: _Part, maybe: set) -> dict:
+    """Run start -> `RunStart`, for the runs among `maybe` that start as an earlier one did (steady
+    layers, the same outline and seams): their first layers, made once for all of them."""
+    if not maybe:
+        return {}
+    from ._reuse import run_starts
+    s, n = part.settings, len(part.sections)
+    found = run_starts(dict(enumerate(part.sections)), n, (s.bottom_layers + 1, s.top_layers), part.tolerance,
+                       RUN_LAYERS, START_LAYERS, sorted(maybe))
+    # (and the same seams: the pass up the part found them at the same places)
+    alike = {k: k0 for k, k0 in found.items()
+             if all(same_point(part.seams[k + i], part.seams[k0 + i], part.tolerance) for i in range(START_LAYERS))}
+    made = {}
+    for k0 in sorted(set(alike.values())):  # over the outlines of the steady stretches, few
+        state = {}
+        rows = run_layers(part.job(k0, k0 + START_LAYERS, {}, outputs=False), state)
+        made[k0] = RunStart(tuple(rows), state["pos"], state["kept"], state["below_solid"])
+    return {k: made[k0] for k, k0 in alike.items()}
 
 
 def _with_supports(layers: list, sections: list, unheld: list, s: PrintSettings) -> list:

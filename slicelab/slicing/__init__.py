@@ -17,21 +17,10 @@ reached as ``slicelab.split`` (or ``slicelab.slicing.split.split``):
 """
 from __future__ import annotations
 
-from .._lazy import attach
+from .._lazy import attach_stub
 
-# Submodule of each public name: they load on first use, so slicing layers (`slice_layers`)
-# does not load the cuts, partitions and plates.
-_WHERE = {"Section": "sections", "section": "sections", "slice_layers": "sections", "layer_heights": "sections",
-          "section_from_distances": "sections", "Split": "split", "split_facets": "split", "classify": "split",
-          "corner_distances": "split", "PATTERNS": "split", "Cap": "cap", "plane_edges": "cap",
-          "cap_segments": "cap", "triangle_min_angles": "cap", "Cut": "cut", "CutReport": "cut",
-          "CutWarning": "cut", "stair_cut": "stair", "StairCut": "stair", "StairCutError": "stair",
-          "axis_plane": "stair", "Joint": "partition", "Piece": "partition", "PartitionReport": "partition",
-          "Partition": "partition", "fit_rotation": "placement", "Placement": "placement",
-          "place_for_printing": "placement", "flat_faces": "placement", "DIRECTIONS": "placement",
-          "Plate": "plates", "Plates": "plates", "arrange": "plates", "footprint": "plates"}
-_SUBMODULES = ("sections", "split", "cap", "cut", "stair", "partition", "placement", "plates")
+# The public names and their submodules are listed once, in __init__.pyi; each submodule loads
+# the first time one of its names is used.
+_SUBMODULES = ('sections', 'split', 'cap', 'cut', 'stair', 'partition', 'placement', 'plates')
 
-__all__ = ["Section", "section", "slice_layers", "layer_heights", "section_from_distances", "Split", "split_facets", "classify", "corner_distances", "PATTERNS", "Cap", "plane_edges", "cap_segments", "triangle_min_angles", "Cut", "CutReport", "CutWarning", "stair_cut", "StairCut", "StairCutError", "axis_plane", "Joint", "Piece", "PartitionReport", "Partition", "fit_rotation", "Placement", "place_for_printing", "flat_faces", "DIRECTIONS", "Plate", "Plates", "arrange", "footprint"]
-
-__getattr__, __dir__ = attach(__name__, _WHERE, globals(), submodules=_SUBMODULES)
+__getattr__, __dir__, __all__ = attach_stub(__name__, __file__, submodules=_SUBMODULES)

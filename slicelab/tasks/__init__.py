@@ -15,18 +15,8 @@
 """
 from __future__ import annotations
 
-from .._lazy import attach
+from .._lazy import attach_stub
 
-# Submodule of each public name: they load on first use (matplotlib and the like are slow to import).
-_WHERE = {"write_plates": "plates", "arrange_files": "plates", "Job": "spec", "JobInput": "spec", "JobResult": "spec", "ParameterError": "spec", "JOBS": "jobs",
-          "job_parameters": "jobs", "run_job": "jobs", "run_jobs": "executors", "TASKS": "jobs",
-          "BatchResult": "batch", "task_parameters": "batch", "find_mesh_files": "batch",
-          "process_file": "batch", "run_batch": "batch", "write_summary": "batch"}
-
-
-__all__ = ["write_plates", "arrange_files", "Job", "JobInput", "JobResult", "ParameterError", "JOBS", "job_parameters", "run_job", "run_jobs",
-           "TASKS", "BatchResult", "task_parameters", "find_mesh_files", "process_file", "run_batch",
-           "write_summary"]
-
-
-__getattr__, __dir__ = attach(__name__, _WHERE, globals())
+# The public names and their submodules are listed once, in __init__.pyi; each submodule loads
+# the first time one of its names is used.
+__getattr__, __dir__, __all__ = attach_stub(__name__, __file__)

@@ -31,7 +31,7 @@ __all__ = ["CUT", "PARTITION", "SLICE", "slice_settings"]
 
 
 # ------------------------------------------------------------------------- cut
-def _cut_parameters(plane=None, preview: bool = True, repair: bool = False, fill_holes: bool = False) -> dict:
+def _cut_parameters(*, plane=None, preview: bool = True, repair: bool = False, fill_holes: bool = False) -> dict:
     """plane: ``(origin, normal)`` or None (horizontal, at mid-height); preview: draw exploded.png;
     repair: snap CAD float noise, drop collapsed facets and fix windings first (`slicelab.repair`);
     fill_holes: repair, and close the holes too (``fill_holes=True``)."""
@@ -142,7 +142,7 @@ CUT = Job(
 
 
 # ------------------------------------------------------------------- partition
-def _partition_parameters(volume=None, joint: str = "flat", clearance: float = 0.0, step=(10.0, 20.0),
+def _partition_parameters(*, volume=None, joint: str = "flat", clearance: float = 0.0, step=(10.0, 20.0),
                           flight: int = 1, rotate: bool = True, preview: bool = True, repair: bool = False,
                           plates: bool = False, spacing: float = 5.0, fill_holes: bool = False) -> dict:
     """volume: the build volume (3 sizes, mm; required); joint: flat or stair; clearance: glue gap (mm);
@@ -226,7 +226,7 @@ def _size(name: str, value) -> list:
     return vector(name, value, size=2, positive=True)
 
 
-def _slice_parameters(printer=None, config=None, workers=None, preview: bool = False, repair: bool = True,
+def _slice_parameters(*, printer=None, config=None, workers=None, preview: bool = False, repair: bool = True,
                       fill_holes: bool = False, **settings) -> dict:
     """`slicelab.printing.PrintSettings` fields in `settings` (left out: the printer profile's, then the
     settings file's, then PrintSettings' defaults; the first layer as thick as the others unless given;

@@ -95,7 +95,7 @@ INSPECT = Job(
 
 
 # --------------------------------------------------------------------- section
-def _section_parameters(plane=None, max_gap: float = 1.0) -> dict:
+def _section_parameters(*, plane=None, max_gap: float = 1.0) -> dict:
     """plane: ``(origin, normal)`` or None (horizontal, at mid-height); max_gap: mm."""
     return {"plane": plane_value(plane), "max_gap": _gap(max_gap)}
 
@@ -131,7 +131,7 @@ SECTION = Job(
 
 
 # ---------------------------------------------------------------------- layers
-def _layers_parameters(layer_height=None, max_gap: float = 1.0, svg: bool = True) -> dict:
+def _layers_parameters(*, layer_height=None, max_gap: float = 1.0, svg: bool = True) -> dict:
     """layer_height: mm (required); svg: also draw one SVG per layer."""
     if layer_height is None:
         raise ParameterError("layer_height", "is required (a positive number, mm)")
@@ -170,7 +170,7 @@ LAYERS = Job(
 
 
 # ----------------------------------------------------------------------- split
-def _split_parameters(plane=None, max_gap: float = 1.0, visible_from=None, preview: bool = True) -> dict:
+def _split_parameters(*, plane=None, max_gap: float = 1.0, visible_from=None, preview: bool = True) -> dict:
     """visible_from: keep only the facets facing a viewer in this direction; preview: draw a PNG."""
     seen = None if visible_from is None else vector("visible_from", visible_from, nonzero=True)
     return {"plane": plane_value(plane), "max_gap": _gap(max_gap), "visible_from": seen,
@@ -220,7 +220,7 @@ SPLIT = Job(
 
 
 # --------------------------------------------------------------------- profile
-def _profile_parameters(planes: int = 12, side: str = "left", spread: bool = False, align: bool = True,
+def _profile_parameters(*, planes: int = 12, side: str = "left", spread: bool = False, align: bool = True,
                         max_gap: float = 1.0, png: bool = True, json: bool = True, dxf: bool = True,
                         csv: bool = True) -> dict:
     """planes through the axis; side of the drawn section; spread: other halves in grey;

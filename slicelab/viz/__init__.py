@@ -13,13 +13,8 @@
 """
 from __future__ import annotations
 
-from .._lazy import attach
+from .._lazy import attach_stub
 
-# Submodule of each public name: they load on first use (matplotlib and the like are slow to import).
-_WHERE = {"save_plate_png": "plates", "plot_raster": "layers", "plot_distance": "layers", "plot_toolpath": "layers", "plot_coverage": "layers", "plan_3d": "layers", "preview_png": "layers", "render_depth": "depth", "draw_split": "preview", "save_split_preview": "preview", "plot_exploded": "partition", "save_exploded_png": "partition", "exploded_image": "partition", "profile_png": "profile", "RimChart": "rims", "rim_chart": "rims", "rim_chart_png": "rims"}
-
-
-__all__ = ["save_plate_png", "plot_raster", "plot_distance", "plot_toolpath", "plot_coverage", "plan_3d", "preview_png", "render_depth", "draw_split", "save_split_preview", "plot_exploded", "exploded_image", "save_exploded_png", "profile_png", "RimChart", "rim_chart", "rim_chart_png"]
-
-
-__getattr__, __dir__ = attach(__name__, _WHERE, globals())
+# The public names and their submodules are listed once, in __init__.pyi; each submodule loads
+# the first time one of its names is used.
+__getattr__, __dir__, __all__ = attach_stub(__name__, __file__)

@@ -20,6 +20,8 @@ slicelab.viz.partition.exploded_image : exploded views drawn this way.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ..geometry.ragged import within_group
@@ -209,8 +211,8 @@ def _close_pits(best, owner, shape, tol: float) -> None:
     best[:] = np.where(covered, d, best.reshape(rows, cols)).reshape(-1)
 
 
-def render_projected(proj: Projected, normals, frame, extent, shape, block: int, dtype=np.float64, facing=_FACING,
-            back=_BACK, depth_out=None) -> np.ndarray:
+def render_projected(proj: Projected, normals, frame, extent, shape, block: int, *, dtype=np.float64,
+                     facing=_FACING, back=_BACK, depth_out=None) -> np.ndarray:
     """Draw projected facets into a depth buffer and shade the nearest in each pixel.
 
     Parameters
@@ -250,6 +252,7 @@ def render_projected(proj: Projected, normals, frame, extent, shape, block: int,
     depth = proj.q[:, 2].reshape(-1, 3)  # larger is nearer the viewer
     best = np.full(rows * cols, -np.inf, dtype=np.float32)
     owner = np.full(rows * cols, -1, dtype=np.int64)
+    buf, corners = _Buffer(rows, cols, best, owner), _Corners(x, y, depth)
     # A facet within a pixel of its first corner is drawn as two points, that corner and its
     # centroid: a dense scan has several facets per pixel, and a point costs a fraction of a facet
     # expanded over its pixels. Larger facets are filled.
@@ -261,13 +264,13 @@ def render_projected(proj: Projected, normals, frame, extent, shape, block: int,
     small = reach <= (3.0 if decimated else 1.0)
     big = np.flatnonzero(~small)
     if decimated:
-        _splat_corners(small, x, y, depth, rows, cols, best, owner)
-        big = _splat_slivers(big, reach, x, y, depth, rows, cols, best, owner)
+        _splat_corners(small, corners, buf)
+        big = _splat_slivers(big, reach, corners, buf)
         _spread(best, owner, shape)
     else:
-        _splat(small, x, y, depth, rows, cols, best, owner)
+        _splat(small, corners, buf)
     if len(big):
-        _fill(big, x, y, depth, rows, cols, best, owner, block)
+        _fill(big, corners, buf, block)
     if decimated:
         _close_pits(best, owner, shape, 4 * max((s1 - s0) / cols, (t1 - t0) / rows))
     hit = np.flatnonzero(owner >= 0)
@@ -286,34 +289,54 @@ def render_projected(proj: Projected, normals, frame, extent, shape, block: int,
     return out
 
 
-def _splat(small, x, y, depth, rows, cols, best, owner) -> None:
+@dataclass(frozen=True, eq=False)
+class _Buffer:
+    """A depth buffer of rows x cols pixels, flat: the nearest depth and its facet in each pixel."""
+
+    rows: int
+    cols: int
+    best: np.ndarray    # (rows * cols,) float32, -inf where empty
+    owner: np.ndarray   # (rows * cols,) int64, -1 where empty
+
+
+@dataclass(frozen=True, eq=False)
+class _Corners:
+    """The facets' corners in pixel coordinates, (n, 3) each: x to the right, y downwards, depth."""
+
+    x: np.ndarray
+    y: np.ndarray
+    depth: np.ndarray
+
+
+def _splat(small, corners: _Corners, buf: _Buffer) -> None:
     """Z-buffer the facets marked `small` as two points each: the first corner and the centroid."""
     f = np.flatnonzero(small)
     third = np.float32(1 / 3)
-    xs, ys, zs = x[f], y[f], depth[f]
+    xs, ys, zs = corners.x[f], corners.y[f], corners.depth[f]
     for px, py, z in ((xs[:, 0], ys[:, 0], zs[:, 0]), (xs.sum(axis=1) * third, ys.sum(axis=1) * third,
                                                        zs.sum(axis=1) * third)):
-        _points(px, py, z, 1, rows, cols, best, owner, f)
+        _points(px, py, z, 1, buf, f)
 
 
-def _splat_corners(small, x, y, depth, rows, cols, best, owner) -> None:
+def _splat_corners(small, corners: _Corners, buf: _Buffer) -> None:
     """Z-buffer the facets marked `small` as points: their three corners (one pass over them all)
     and their centroids."""
     f = None
+    x, y, depth = corners.x, corners.y, corners.depth
     if not small.all():
         f = np.flatnonzero(small)
         x, y, depth = (np.take(a, f, axis=0) for a in (x, y, depth))  # take: faster than indexing
     third = np.float32(1 / 3)
-    _points(x.reshape(-1), y.reshape(-1), depth.reshape(-1), 3, rows, cols, best, owner, f)
+    _points(x.reshape(-1), y.reshape(-1), depth.reshape(-1), 3, buf, f)
     _points((x[:, 0] + x[:, 1] + x[:, 2]) * third, (y[:, 0] + y[:, 1] + y[:, 2]) * third,
-            (depth[:, 0] + depth[:, 1] + depth[:, 2]) * third, 1, rows, cols, best, owner, f)
+            (depth[:, 0] + depth[:, 1] + depth[:, 2]) * third, 1, buf, f)
 
 
 #: R2 low-discrepancy sequence steps: points spread evenly over a triangle, in any number.
 _R2 = (0.7548776662466927, 0.5698402909980532)
 
 
-def _splat_slivers(big, reach, x, y, depth, rows, cols, best, owner) -> np.ndarray:
+def _splat_slivers(big, reach, corners: _Corners, buf: _Buffer) -> np.ndarray:
     """Draw as points the facets of `big` whose pixel box is mostly empty (long thin facets, such as a
     fan-triangulated cap's: filling tests every pixel of the box); returns the others, to be filled.
 
@@ -323,6 +346,7 @@ def _splat_slivers(big, reach, x, y, depth, rows, cols, best, owner) -> np.ndarr
     """
     if len(big) == 0:
         return big
+    x, y, depth = corners.x, corners.y, corners.depth
     xb, yb = np.take(x, big, axis=0).astype(np.float64), np.take(y, big, axis=0).astype(np.float64)
     area = 0.5 * np.abs((xb[:, 1] - xb[:, 0]) * (yb[:, 2] - yb[:, 0]) - (xb[:, 2] - xb[:, 0]) * (yb[:, 1] - yb[:, 0]))
     box = (np.ptp(xb, axis=1) + 1) * (np.ptp(yb, axis=1) + 1)
@@ -345,15 +369,16 @@ def _splat_slivers(big, reach, x, y, depth, rows, cols, best, owner) -> np.ndarr
     for a in (x, y, depth):  # the three coordinates
         c = np.take(a, f, axis=0)[local]
         pts.append(c[:, 0] + u * (c[:, 1] - c[:, 0]) + v * (c[:, 2] - c[:, 0]))
-    _points(*pts, 1, rows, cols, best, owner, fid)
+    _points(*pts, 1, buf, fid)
     return big[~thin]
 
 
-def _points(px, py, z, per: int, rows, cols, best, owner, facets=None) -> None:
+def _points(px, py, z, per: int, buf: _Buffer, facets=None) -> None:
     """Z-buffer points in pixel coordinates; point ``i`` belongs to facet ``i // per`` (an index into
     `facets` when given) and is drawn in the pixel whose centre is nearest."""
     if len(px) == 0:
         return
+    rows, cols, best, owner = buf.rows, buf.cols, buf.best, buf.owner
     if px.min() >= -0.5 and py.min() >= -0.5 and px.max() < cols - 0.5 and py.max() < rows - 0.5:
         # All inside (as in a split's panels, padded around the drawing): truncation rounds.
         pix = (py + np.float32(0.5)).astype(np.int64) * cols + (px + np.float32(0.5)).astype(np.int64)
@@ -369,9 +394,10 @@ def _points(px, py, z, per: int, rows, cols, best, owner, facets=None) -> None:
     owner[pix[win]] = fid if facets is None else facets[fid]
 
 
-def _fill(f, x, y, depth, rows, cols, best, owner, block: int) -> None:
+def _fill(f, corners: _Corners, buf: _Buffer, block: int) -> None:
     """Z-buffer facets `f` over every pixel centre inside them (edge functions), in blocks."""
-    x, y, depth = x[f].astype(np.float64), y[f].astype(np.float64), depth[f].astype(np.float64)
+    rows, cols, best, owner = buf.rows, buf.cols, buf.best, buf.owner
+    x, y, depth = (a[f].astype(np.float64) for a in (corners.x, corners.y, corners.depth))
     c_lo = np.clip(np.ceil(x.min(axis=1)), 0, cols).astype(np.int64)
     c_hi = np.clip(np.floor(x.max(axis=1)), -1, cols - 1).astype(np.int64)
     r_lo = np.clip(np.ceil(y.min(axis=1)), 0, rows).astype(np.int64)

@@ -214,7 +214,7 @@ def save_split_preview(split, path, *, pixels: int = 500) -> dict:
     for k, (proj, mesh) in enumerate(((front, split.front), (rear, split.rear))):
         x0 = left + k * (cols + gap)
         boxes.append((x0, top, cols, rows))
-        canvas.paste(render_projected(proj, mesh.normals, frame, extent, shape, 4_000_000, np.uint8), x0, top)
+        canvas.paste(render_projected(proj, mesh.normals, frame, extent, shape, 4_000_000, dtype=np.uint8), x0, top)
         rings, chains = _rings_px(split.section, extent, shape, x0, top)
         canvas.polygons(rings, colour=_SECTION, alpha=0.25, width=1)
         canvas.lines(chains, colour=_OPEN)

@@ -15,7 +15,7 @@ into an object or write a file of any size.
 See Also
 --------
 slicelab.printing.config.settings : the groups and `PrintSettings`.
-slicelab.printing.config.printers.render_gcode : the templates filled in.
+slicelab.printing.config.settings.render_gcode : the templates filled in.
 """
 from __future__ import annotations
 

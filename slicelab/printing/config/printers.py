@@ -25,13 +25,10 @@ from __future__ import annotations
 import tomllib
 from pathlib import Path
 
-__all__ = ["PRINTERS", "FLAVORS", "MARLIN_START", "MARLIN_END", "resolve_settings", "read_config", "format_config", "render_gcode"]
+__all__ = ["PRINTERS", "MARLIN_START", "MARLIN_END", "resolve_settings", "read_config", "format_config"]
 
 #: The largest settings file read (bytes): a settings file is a page of text.
 CONFIG_LIMIT = 1 << 20
-
-#: G-code dialects; each reads the same moves, they differ in the start and end blocks.
-FLAVORS = ("marlin", "klipper", "reprapfirmware")
 
 #: Marlin's start and end blocks, the default when the settings name none.
 MARLIN_START = ("M140 S{bed_temperature:.0f}\nM104 S{nozzle_temperature:.0f}\n"
@@ -156,27 +153,3 @@ def format_config(settings) -> str:
         lines += [f"[{g}]"] + [f"{k} = {value(v)}" for k, v in asdict(getattr(settings, g)).items()
                                if v is not None] + [""]
     return "\n".join(lines)
-
-
-def render_gcode(template: str, settings, name: str = "start_gcode / end_gcode") -> str:
-    """A start or end G-code template with the settings' ``{placeholders}`` filled in.
-
-    Only the numeric settings (`slicelab.printing.config.settings.template_names`) can be named, as
-    ``{setting}`` or ``{setting:spec}``; `slicelab.printing.config.fields.check_template` refuses anything
-    else when the settings are made.
-
-    Examples
-    --------
-    >>> from slicelab.printing import PrintSettings
-    >>> render_gcode("M190 S{bed_temperature:.0f} ; {bed_size_x:g} mm\\n", PrintSettings())
-    'M190 S60 ; 250 mm\\n'
-    """
-    from .settings import settings_dict, template_names
-    allowed = template_names()
-    fields = {k: v for k, v in settings_dict(settings).items() if k in allowed}
-    fields["bed_size_x"], fields["bed_size_y"] = settings.bed_size
-    try:
-        text = template.format(**fields)
-    except (KeyError, IndexError, ValueError, AttributeError, TypeError) as exc:
-        raise ValueError(f"{name}: unknown placeholder or bad format ({exc})") from None
-    return text if text.endswith("\n") or not text else text + "\n"

@@ -24,7 +24,10 @@ from dataclasses import asdict, dataclass, fields
 from .fields import check_fields, check_template, setting
 
 __all__ = ["Extrusion", "Walls", "Infill", "Skins", "Supports", "Motion", "Cooling", "Adhesion", "Machine", "Raster", "GROUPS",
-           "PrintSettings", "settings_dict", "setting_names", "template_names", "sized_settings"]
+           "PrintSettings", "settings_dict", "setting_names", "template_names", "sized_settings", "FLAVORS", "render_gcode"]
+
+#: G-code dialects; each reads the same moves, they differ in the start and end blocks.
+FLAVORS = ("marlin", "klipper", "reprapfirmware")
 
 
 def _patterns() -> tuple:
@@ -43,7 +46,6 @@ def _support_styles() -> tuple:
 
 
 def _flavors() -> tuple:
-    from .printers import FLAVORS
     return FLAVORS
 
 
@@ -294,7 +296,7 @@ class PrintSettings:
     machine: Machine
     raster: Raster
 
-    def __init__(self, extrusion=None, walls=None, infill=None, skins=None, supports=None, motion=None,
+    def __init__(self, *, extrusion=None, walls=None, infill=None, skins=None, supports=None, motion=None,
                  cooling=None, adhesion=None, machine=None, raster=None, **settings):
         given = dict(extrusion=extrusion, walls=walls, infill=infill, skins=skins, supports=supports, motion=motion,
                      cooling=cooling, adhesion=adhesion, machine=machine, raster=raster)
@@ -332,7 +334,6 @@ class PrintSettings:
         if not (0 <= cx <= self.bed_size[0] and 0 <= cy <= self.bed_size[1]):
             raise ValueError(f"bed_center ({cx:g}, {cy:g}) must lie on the bed "
                              f"(0 to {self.bed_size[0]:g}, 0 to {self.bed_size[1]:g} mm)")
-        from .printers import render_gcode
         numbers = template_names()
         for name in ("start_gcode", "end_gcode"):
             template = getattr(self, name)
@@ -408,3 +409,26 @@ def settings_dict(s: PrintSettings) -> dict:
     (2, 0.2)
     """
     return {k: getattr(s, k) for g in GROUPS for k in asdict(getattr(s, g))}  # defaults resolved
+
+
+def render_gcode(template: str, settings, name: str = "start_gcode / end_gcode") -> str:
+    """A start or end G-code template with the settings' ``{placeholders}`` filled in.
+
+    Only the numeric settings (`template_names`) can be named, as
+    ``{setting}`` or ``{setting:spec}``; `slicelab.printing.config.fields.check_template` refuses anything
+    else when the settings are made.
+
+    Examples
+    --------
+    >>> from slicelab.printing import PrintSettings
+    >>> render_gcode("M190 S{bed_temperature:.0f} ; {bed_size_x:g} mm\\n", PrintSettings())
+    'M190 S60 ; 250 mm\\n'
+    """
+    allowed = template_names()
+    fields = {k: v for k, v in settings_dict(settings).items() if k in allowed}
+    fields["bed_size_x"], fields["bed_size_y"] = settings.bed_size
+    try:
+        text = template.format(**fields)
+    except (KeyError, IndexError, ValueError, AttributeError, TypeError) as exc:
+        raise ValueError(f"{name}: unknown placeholder or bad format ({exc})") from None
+    return text if text.endswith("\n") or not text else text + "\n"
