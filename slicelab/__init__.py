@@ -50,7 +50,7 @@ _LAZY = {
     "raster_hierarchy": "printing.grid.hierarchy",
     "layer_perimeters": "printing.steps.perimeters", "Perimeters": "printing.steps.perimeters",
     "layer_paths": "printing.pipeline", "LayerPaths": "printing.table",
-    "PrintSettings": "printing.planner", "PrintPlan": "printing.planner", "plan": "printing.planner",
+    "PrintSettings": "printing.config.settings", "PrintPlan": "printing.planner", "plan": "printing.planner",
 }
 
 __all__ = ["Mesh", "MeshFileError", "MeshReport", "check", "load", "repair", "save", "__version__", *_LAZY]
