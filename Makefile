@@ -45,6 +45,18 @@ test: $(VENV)/.installed-dev $(VENV)/.kernels
 figures: data
 	$(BIN)/python scripts/figures.py
 
+# The documentation site: API pages from the docstrings, the guides, the notebooks executed by
+# myst-nb, warnings as errors (docs/conf.py). Output in docs/_build/html; nothing else is written
+# outside git-ignored paths.
+.PHONY: docs
+
+$(VENV)/.installed-docs: pyproject.toml | $(BIN)/python
+	$(PIP) -e '.[docs]'
+	touch $@ $(VENV)/.installed
+
+docs: $(VENV)/.installed-docs $(VENV)/.kernels
+	$(BIN)/python -m sphinx -W --keep-going -j auto -b html docs docs/_build/html
+
 bench: data-large $(VENV)/.installed-dev $(VENV)/.kernels
 	for s in scripts/bench_*.py; do $(BIN)/python $$s || exit 1; done
 

@@ -39,7 +39,7 @@ def within_group(counts) -> np.ndarray:
 
 
 def expand_ranges(starts, counts) -> tuple[np.ndarray, np.ndarray]:
-    """Every integer of the ranges ``starts[i] .. starts[i] + counts[i] - 1``, with its range.
+    """Every integer of the ranges ``starts[i]`` to ``starts[i] + counts[i] - 1``, with its range.
 
     Returns
     -------
