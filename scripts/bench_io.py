@@ -2,6 +2,7 @@
 
     .venv/bin/python scripts/bench_io.py              # data/large/*.stl, median of 3 runs each
     .venv/bin/python scripts/bench_io.py --repeat 1 --files torus_1m.stl
+    .venv/bin/python scripts/bench_io.py --docs       # also the docs' table (docs/performance/results/)
 
 For every file in data/large/ (written by ``make data-large`` if missing) this
 times, each in a fresh child process (see scripts/benchlib.py):
@@ -76,6 +77,8 @@ def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--repeat", type=int, default=3, help="child runs per measurement (median time)")
     ap.add_argument("--files", nargs="+", default=list(benchlib.LARGE_FILES), help="names in data/large/")
+    ap.add_argument("--docs", action="store_true",
+                    help="also write what is printed, with the machine and date, for the docs' performance pages")
     args = ap.parse_args(argv)
     benchlib.ensure_large_data()
     script = str(Path(__file__).resolve())
@@ -124,4 +127,5 @@ if __name__ == "__main__":
     if len(sys.argv) > 1 and sys.argv[1] == benchlib.CHILD_FLAG:
         child(*sys.argv[2:])
     else:
-        raise SystemExit(main())
+        with benchlib.docs_output("bench_io", "--docs" in sys.argv[1:]):
+            raise SystemExit(main())

@@ -1,6 +1,7 @@
 """Benchmark sections: every layer of a 1M-facet torus, and one section of a 5M-facet pot.
 
     .venv/bin/python scripts/bench_sections.py
+    .venv/bin/python scripts/bench_sections.py --docs   # also the docs' table (docs/performance/results/)
 
 1. ``slicelab.slice_layers(mesh, 0.2)`` of data/large/torus_1m.stl (100 layers,
    chained into loops with the hole hierarchy) beside trimesh's
@@ -116,8 +117,12 @@ def child_pot_trimesh(path: str) -> None:
 
 
 def main() -> int:
-    # No options: `--help` prints the docstring before data/large/ is written or anything is timed.
-    argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter).parse_args()
+    # One option, --docs (read in __main__); `--help` prints the docstring before data/large/ is
+    # written or anything is timed.
+    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--docs", action="store_true",
+                    help="also write what is printed, with the machine and date, for the docs' performance pages")
+    ap.parse_args()
     benchlib.ensure_large_data()
     script = str(Path(__file__).resolve())
     torus = benchlib.LARGE / "torus_1m.stl"
@@ -177,4 +182,5 @@ if __name__ == "__main__":
         {"layers": child_layers, "pot-ours": child_pot_ours,
          "pot-trimesh": child_pot_trimesh}[sys.argv[2]](*sys.argv[3:])
     else:
-        raise SystemExit(main())
+        with benchlib.docs_output("bench_sections", "--docs" in sys.argv[1:]):
+            raise SystemExit(main())

@@ -102,3 +102,110 @@ def run_command(*args: str) -> tuple[float, float, str]:
         if code not in (0, 1):
             raise RuntimeError(f"slicelab {' '.join(map(str, args))} failed: {err.read().strip()}")
     return seconds, usage.ru_maxrss / 1024, stdout.strip()
+
+
+# --- Tables for the documentation -------------------------------------------------------------------
+# A benchmark run with ``--docs`` also writes what it printed, with the machine and the date, to
+# docs/performance/results/NAME.rst, which the "Validation and performance" pages include (the
+# ``bench-result`` directive of docs/_ext/benchresults.py); without the file they say how to make it.
+
+DOCS_RESULTS = ROOT / "docs" / "performance" / "results"
+
+
+def machine_facts() -> dict[str, str]:
+    """The machine and software a measurement ran on: CPU model, cores, RAM, OS, Python, numpy,
+    how the compiled kernels load, and the commit measured (``+`` if the tree had changes)."""
+    import datetime
+    import platform
+
+    import numpy as np
+
+    cpu = platform.processor() or platform.machine()
+    ram = ""
+    try:
+        cpu = next((line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo")
+                    if line.startswith("model name")), cpu)
+        kib = next(int(line.split()[1]) for line in open("/proc/meminfo") if line.startswith("MemTotal"))
+        ram = f", {kib / 2**20:.1f} GiB RAM"
+    except (OSError, StopIteration, ValueError):
+        pass
+
+    def run(*cmd: str) -> str:
+        try:
+            return subprocess.run(cmd, capture_output=True, text=True, cwd=ROOT, timeout=60).stdout.strip()
+        except (OSError, subprocess.SubprocessError):
+            return ""
+
+    commit = run("git", "rev-parse", "--short", "HEAD") or "unknown"
+    if run("git", "status", "--porcelain", "--untracked-files=no", "--", "slicelab", "scripts"):
+        commit += "+"
+    version = run(sys.executable, "-m", "slicelab", "--version") or "slicelab (version unknown)"
+    return {
+        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "machine": f"{cpu}, {os.cpu_count()} cores{ram}, {platform.system()} {platform.release()} "
+                   f"{platform.machine()}",
+        "software": f"Python {platform.python_version()}, numpy {np.__version__}, {version}",
+        "commit": commit,
+    }
+
+
+def write_docs_results(name: str, text: str, command: str) -> Path:
+    """Write `text` (what benchmark `name` printed) to ``docs/performance/results/NAME.rst`` as a
+    literal block under the command that made it, the date and the machine; return the path."""
+    facts = machine_facts()
+    body = "".join(f"   {line}".rstrip() + "\n" for line in text.rstrip().splitlines())
+    page = (f".. Written by ``{command}`` (scripts/benchlib.py, docs_output): run it again rather\n"
+            f"   than editing this file.\n\n"
+            f":Command: ``{command}``\n"
+            f":Measured: {facts['date']}, commit {facts['commit']}\n"
+            f":Machine: {facts['machine']}\n"
+            f":Software: {facts['software']}\n\n"
+            f".. code-block:: text\n\n{body}")
+    DOCS_RESULTS.mkdir(parents=True, exist_ok=True)
+    path = DOCS_RESULTS / f"{name}.rst"
+    path.write_text(page)
+    return path
+
+
+class _Tee:
+    """A stdout that also keeps a copy of what is printed."""
+
+    def __init__(self, stream, copy):
+        self.stream, self.copy = stream, copy
+
+    def write(self, text):
+        self.copy.write(text)
+        return self.stream.write(text)
+
+    def flush(self):
+        self.stream.flush()
+
+    def __getattr__(self, name):
+        return getattr(self.stream, name)
+
+
+class docs_output:
+    """``with docs_output("bench_io", args.docs): ...``: when `enabled`, what the block prints also
+    goes to `write_docs_results` once the block ends without an error (``SystemExit(0)`` counts as
+    success), so the docs' table is the one the run printed, never copied by hand."""
+
+    def __init__(self, name: str, enabled: bool = True):
+        self.name, self.enabled = name, enabled
+        # (the command as typed, read now: a script may take ``--docs`` out of sys.argv for its parser)
+        self.command = " ".join(["python", f"scripts/{Path(sys.argv[0]).name}", *sys.argv[1:]])
+
+    def __enter__(self):
+        if self.enabled:
+            import io
+            self.saved, self.buffer = sys.stdout, io.StringIO()
+            sys.stdout = _Tee(sys.stdout, self.buffer)
+        return self
+
+    def __exit__(self, kind, exc, tb):
+        if not self.enabled:
+            return False
+        sys.stdout = self.saved
+        if kind is None or (kind is SystemExit and exc.code in (0, None)):
+            path = write_docs_results(self.name, self.buffer.getvalue(), self.command)
+            print(f"wrote {path.relative_to(ROOT)}", flush=True)
+        return False
