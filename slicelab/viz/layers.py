@@ -2,8 +2,14 @@
 
 Each plotting helper draws on a given Axes (or a new one) and returns the
 Axes; `preview_png` draws a few layers of a plan into a PNG file with OpenCV
-(`slicelab.viz.canvas`), without matplotlib. Paths are coloured by role from
-`slicelab.printing.roles.STYLES`.
+(`slicelab.viz.canvas`), without matplotlib, with a legend of the roles drawn
+(`slicelab.viz.legend`) and an oblique view of every layer (`oblique_view`).
+Paths are coloured by role from `slicelab.printing.roles.STYLES`.
+
+Which layers a preview shows is said as `preview_layers` reads it (the
+``--preview-layers`` of ``slicelab slice``): layer numbers, heights and words,
+``0,57,z=12.5,last``; by default the first, middle and last layers and the
+one with the most bridge and overhang area (`default_preview_layers`).
 """
 from __future__ import annotations
 
@@ -12,8 +18,11 @@ import math
 import numpy as np
 
 from ..printing.roles import STYLES
+from .legend import rgb
 
-__all__ = ["plot_raster", "plot_distance", "plot_toolpath", "plot_coverage", "plan_3d", "preview_png"]
+__all__ = ["plot_raster", "plot_distance", "plot_toolpath", "plot_coverage", "plan_3d", "preview_png",
+           "oblique_view", "oblique_size", "preview_layers", "pick_preview_layers", "default_preview_layers", "LAYER_WORDS",
+           "PREVIEW_LAYERS_FORM"]
 
 
 def _axes(ax):
@@ -224,31 +233,339 @@ def plan_3d(plan, layers=None, ax=None, *, lw: float = 0.5, elev: float = 25, az
     return ax
 
 
-def preview_png(plan, path, layers=None, *, pixels: int = 400) -> dict:
-    """Draw some layers' toolpaths side by side into a PNG (roles coloured, travel in grey).
+# ------------------------------------------------------------- which layers a preview shows
+#: Words that name a layer by what it holds: the first, the middle one (number n // 2), the last,
+#: the one with the most bridge and overhang area, the one with the most material.
+LAYER_WORDS = ("first", "middle", "last", "overhang", "largest")
+#: What `preview_layers` reads, in words (the refusals say it).
+PREVIEW_LAYERS_FORM = ("layer numbers (0 is the first, as in layer_NNNN.svg), z=HEIGHT (mm above the bed), "
+                       "first, middle, last, overhang or largest, separated by commas")
+#: Layers a preview draws at most.
+MAX_PREVIEW_LAYERS = 12
+
+
+def preview_layers(value) -> tuple | None:
+    """The layers a preview is asked to draw, as plain values: layer numbers (int), heights
+    (``"z=12.5"``: the layer printed at that height above the bed) and words (`LAYER_WORDS`).
+
+    `value` is text such as ``"0,57,z=12.5,last"`` or a sequence of such items (numbers or
+    text); None is None (the default choice). Whether the layers exist is for
+    `pick_preview_layers` to say, once the layers are known.
+
+    Raises
+    ------
+    ValueError
+        Saying what was expected (`PREVIEW_LAYERS_FORM`) and what was given.
+
+    Examples
+    --------
+    >>> preview_layers("0, 57,Z=12.50,last")
+    (0, 57, 'z=12.5', 'last')
+    >>> preview_layers([3, "middle"])
+    (3, 'middle')
+    >>> preview_layers("0,top")  # doctest: +ELLIPSIS
+    Traceback (most recent call last):
+    ...
+    ValueError: must be layer numbers ..., got 'top'
+    """
+    if value is None:
+        return None
+    if isinstance(value, str):
+        parts = value.split(",")
+    elif isinstance(value, (int, np.integer)) and not isinstance(value, bool):
+        parts = [value]
+    else:
+        parts = list(value)
+    items = []
+    for part in parts:  # over the items asked for, a few
+        if isinstance(part, (int, np.integer)) and not isinstance(part, bool) and part >= 0:
+            items.append(int(part))
+            continue
+        text = str(part).strip().lower().replace(" ", "")
+        if text in LAYER_WORDS:
+            items.append(text)
+        elif text.isdigit():
+            items.append(int(text))
+        elif text.startswith("z="):
+            try:
+                height = float(text[2:])
+            except ValueError:
+                height = float("nan")
+            if not (math.isfinite(height) and height >= 0):
+                raise ValueError(f"heights must be z=HEIGHT in mm, 0 or more, such as z=12.5, got {str(part)!r}")
+            items.append(f"z={height:g}")
+        else:
+            raise ValueError(f"must be {PREVIEW_LAYERS_FORM}, got {str(part).strip()!r}")
+    if not items:
+        raise ValueError(f"must name at least one layer: {PREVIEW_LAYERS_FORM}")
+    if len(items) > MAX_PREVIEW_LAYERS:
+        raise ValueError(f"names {len(items)} layers: a preview draws {MAX_PREVIEW_LAYERS} at most")
+    return tuple(items)
+
+
+def _kind_area(lp, kinds) -> float:
+    """Length x width of a layer's extrusions of some kinds (mm^2)."""
+    area = 0.0
+    for _, q, w in lp.rows(kinds):  # over those rows, a few
+        if len(q) > 1:
+            seg = np.hypot(*np.diff(q, axis=0).T)
+            area += float(np.sum(seg * (w if np.ndim(w) == 0 else 0.5 * (w[:-1] + w[1:]))))
+    return area
+
+
+def _hanging(plan) -> np.ndarray:
+    """Per layer, the area over nothing: overhang not bridged plus the bridges laid (mm^2)."""
+    ov = plan.overhangs
+    n = len(plan.layers)
+    area = np.zeros(n) if len(ov) != n else np.asarray(ov["area"], dtype=float).copy()
+    bridged = np.flatnonzero(ov["bridges"]) if len(ov) == n else range(n)
+    for k in bridged:  # over the layers with bridges, few
+        area[k] += _kind_area(plan.layers[k], ("bridge",))
+    return area
+
+
+def _material(plan) -> np.ndarray:
+    a = plan.areas
+    return np.asarray(a["material"], dtype=float) if len(a) == len(plan.layers) else \
+        np.array([lp.extruded_area() for lp in plan.layers])
+
+
+def _word_layer(plan, word: str, n: int) -> tuple[int, str]:
+    if word == "first":
+        return 0, "first"
+    if word == "middle":
+        return n // 2, "middle"
+    if word == "last":
+        return n - 1, "last"
+    if word == "overhang":
+        hang = _hanging(plan)
+        if hang.max(initial=0.0) > 0:
+            k = int(np.argmax(hang))
+            return k, f"most bridges and overhangs, {hang[k]:.3g} mm2"
+        word = "largest"  # nothing hangs: the layer with the most material says most
+    k = int(np.argmax(_material(plan)))
+    return k, "largest area" + (" (nothing hangs)" if word != "largest" else "")
+
+
+def pick_preview_layers(items, tops, plan=None) -> list[tuple[int, str]]:
+    """The layers `items` (from `preview_layers`) name, with what each was asked as, in the order
+    asked, each once.
+
+    Parameters
+    ----------
+    items : sequence
+        Layer numbers, ``"z=H"`` heights and `LAYER_WORDS`.
+    tops : (n,) array
+        Each layer's top above the bed (mm; `PrintPlan.z`): a height names the layer printed there.
+    plan : PrintPlan, optional
+        Needed for ``overhang`` and ``largest``; without it (a check before planning) they are
+        left out.
+
+    Raises
+    ------
+    ValueError
+        For a layer the part does not have, saying which it has.
+
+    Examples
+    --------
+    >>> pick_preview_layers([0, "z=0.5", "last", 2], [0.2, 0.4, 0.6, 0.8])
+    [(0, ''), (2, 'z=0.5'), (3, 'last')]
+    >>> pick_preview_layers([7], [0.2, 0.4, 0.6, 0.8])
+    Traceback (most recent call last):
+    ...
+    ValueError: 7 is not a layer of this part: it has 4 layers, 0 to 3 (give one of those, or last)
+    """
+    tops = np.asarray(tops, dtype=float)
+    n = len(tops)
+    if n == 0:
+        raise ValueError("has no layer to draw: the part has none")
+    out, seen = [], set()
+    for it in items:  # over the items asked for, a few
+        if isinstance(it, (int, np.integer)):
+            if not 0 <= it < n:
+                raise ValueError(f"{it} is not a layer of this part: it has {n} layers, 0 to {n - 1} "
+                                 f"(give one of those, or last)")
+            k, why = int(it), ""
+        elif str(it).startswith("z="):
+            height = float(it[2:])
+            if height > tops[-1] + 1e-6:
+                raise ValueError(f"{it} is above the part's last layer ({n - 1}, z = {tops[-1]:.2f} mm): "
+                                 f"give a height up to {tops[-1]:g}")
+            k, why = int(np.searchsorted(tops, height - 1e-6)), it  # the first layer whose top is that high
+        elif it in ("first", "middle", "last") or plan is not None:
+            k, why = _word_layer(plan, it, n)
+        else:
+            continue
+        if k not in seen:
+            seen.add(k)
+            out.append((k, why))
+    return out
+
+
+def default_preview_layers(plan) -> list[tuple[int, str]]:
+    """The layers a preview draws unless told: the first, the middle and the last, and the one with
+    the most bridge and overhang area (`PrintPlan.overhangs` and the bridges laid); where two of
+    these are one layer, the layer with the most material, then those a quarter and three quarters
+    up. Bottom to top, each with why it was chosen.
+
+    Examples
+    --------
+    >>> import slicelab
+    >>> from slicelab.samples import box
+    >>> p = slicelab.plan(box((0, 0, 0), (4, 4, 1)), slicelab.PrintSettings(pixel_size=0.1), workers=1)
+    >>> default_preview_layers(p)   # 5 layers, nothing hangs: the fourth has the most material (float noise)
+    [(0, 'first'), (1, 'a quarter up'), (2, 'middle'), (4, 'last')]
+    """
+    n = len(plan.layers)
+    if n == 0:
+        return []
+    chosen: dict = {}
+    for k, why in ((0, "first"), (n // 2, "middle"), (n - 1, "last")):
+        chosen.setdefault(k, []).append(why)
+    hang = _hanging(plan)
+    if hang.max(initial=0.0) > 0:
+        k = int(np.argmax(hang))
+        chosen.setdefault(k, []).append(f"most bridges and overhangs, {hang[k]:.3g} mm2")
+    fallbacks = [(int(np.argmax(_material(plan))), "largest area"), (n // 4, "a quarter up"),
+                 ((3 * n) // 4, "three quarters up")]
+    for k, why in fallbacks:  # three at most
+        if len(chosen) >= min(4, n):
+            break
+        chosen.setdefault(k, [why])
+    return [(k, "; ".join(chosen[k])) for k in sorted(chosen)]
+
+
+# ------------------------------------------------------------- the whole part, seen obliquely
+_WALLS = ("external", "hole", "overhang")
+_SHADES = 5
+
+
+def _oblique_frame(plan, size: int, azim: float, elev: float):
+    """The oblique view's size in pixels ``(w, h)``, its turn (cosines and sines of `azim` and
+    `elev`) and the pixels of a point ``(scale, x0, y0)``: x = x0 + across * scale, y = y0 - up * scale."""
+    a, e = math.radians(azim), math.radians(elev)
+    ca, sa, ce, se = math.cos(a), math.sin(a), math.cos(e), math.sin(e)
+    x0, y0, x1, y1 = plan.extent
+    top = plan.layers[-1].z if plan.layers else 0.0
+    cx, cy = np.array([x0, x1, x1, x0] * 2), np.array([y0, y0, y1, y1] * 2)
+    cz = np.repeat([0.0, top], 4)
+    sx, sy = cx * ca - cy * sa, cz * ce + (cx * sa + cy * ca) * se  # across, and up the picture
+    scale = (size - 4) / max(float(np.ptp(sx)), float(np.ptp(sy)), 1e-9)
+    w, h = int(np.ptp(sx) * scale) + 4, int(np.ptp(sy) * scale) + 4
+    return (w, h), (ca, sa, ce, se), (scale, 2 - sx.min() * scale, 2 + sy.max() * scale)
+
+
+def oblique_view(plan, canvas, x: int, y: int, size: int, *, azim: float = -35.0, elev: float = 30.0) -> dict:
+    """Every layer's toolpaths seen from above at an angle, drawn into `canvas` with the top-left
+    corner at (x, y) and the longer side `size` pixels (`oblique_size`): each path in its role's
+    colour, the outer walls shaded by how they face the light (a wall facing it bright, one seen
+    edge-on dark).
+
+    Seen from `elev` degrees above the bed and turned `azim` degrees about z (-35: from the front
+    and the right), a point higher up lies nearer the viewer than any point lower down that it
+    covers: drawn bottom to top with OpenCV, each layer over the ones below, the picture is
+    right without a depth buffer. It costs about 0.08 s of CPU for 200 layers of an 80 mm teapot
+    (78 k points), 0.2 s for the 600 layers of data/pot.stl (376 k points; measured on the 2-core
+    machine, busy: 0.2 and 0.55 s of wall time).
+
+    Returns
+    -------
+    dict
+        ``"kinds"``: the kinds drawn; ``"box"``: the drawing's ``(x, y, w, h)`` in pixels.
+    """
+    import cv2
+    (w, h), (ca, sa, ce, se), (scale, ox, oy) = _oblique_frame(plan, size, azim, elev)
+    ox, oy = ox + x, oy + y
+    shift = 1 << 4  # fractional bits of the points handed to OpenCV
+    flat = {k: rgb(s.plot_colour) for k, s in STYLES.items()}
+    shades = {k: [tuple(int(min(255, v * (0.5 + 0.6 * i / (_SHADES - 1)))) for v in flat[k])
+                  for i in range(_SHADES)] for k in _WALLS}
+    light = (math.cos(math.radians(azim - 85)), math.sin(math.radians(azim - 85)))  # from the viewer's left
+    drawn = set()
+    for lp in plan.layers:  # bottom to top: each layer over those below
+        groups: dict = {}
+        for kind, q, _ in lp.pieces():  # over the layer's paths
+            if len(q) > 1:
+                groups.setdefault(kind, []).append(q)
+        for kind, chains in groups.items():  # over the kinds in the layer, a dozen at most
+            drawn.add(kind)
+            counts = np.array([len(q) for q in chains])
+            xy = np.concatenate(chains)
+            px = ox + (xy[:, 0] * ca - xy[:, 1] * sa) * scale
+            py = oy - (lp.z * ce + (xy[:, 0] * sa + xy[:, 1] * ca) * se) * scale
+            pts = np.rint(np.column_stack([px, py]) * shift).astype(np.int32)
+            ends = np.cumsum(counts)
+            if kind not in _WALLS:
+                cv2.polylines(canvas.rgb, [c.reshape(-1, 1, 2) for c in np.split(pts, ends[:-1])], False,
+                              flat[kind], 1, cv2.LINE_AA, 4)
+                continue
+            # A wall's stretches, each in the shade of how its segments face the light.
+            d = np.diff(xy, axis=0)
+            facing = np.abs(d[:, 1] * light[0] - d[:, 0] * light[1]) / (np.hypot(d[:, 0], d[:, 1]) + 1e-12)
+            shade = np.minimum((facing * _SHADES).astype(np.int64), _SHADES - 1)
+            joins = ends[:-1] - 1  # segments from one path's end to the next path's start
+            cut = np.zeros(len(shade), bool)
+            cut[0] = True
+            cut[1:] = shade[1:] != shade[:-1]
+            cut[joins] = True
+            cut[joins[joins + 1 < len(cut)] + 1] = True
+            keep = np.ones(len(shade), bool)
+            keep[joins] = False
+            runs: dict = {}
+            starts = np.flatnonzero(cut)
+            for s0, s1 in zip(starts.tolist(), np.r_[starts[1:], len(shade)].tolist()):  # over stretches
+                if keep[s0]:
+                    runs.setdefault(int(shade[s0]), []).append(pts[s0:s1 + 1].reshape(-1, 1, 2))
+            for i, stretch in runs.items():  # over the shades, five
+                cv2.polylines(canvas.rgb, stretch, False, shades[kind][i], 1, cv2.LINE_AA, 4)
+    return {"kinds": drawn, "box": (x, y, w, h)}
+
+
+def oblique_size(plan, size: int, *, azim: float = -35.0, elev: float = 30.0) -> tuple[int, int]:
+    """Width and height (pixels) of `oblique_view` with the longer side `size`."""
+    return _oblique_frame(plan, size, azim, elev)[0]
+
+
+def preview_png(plan, path, layers=None, *, pixels: int = 400, legend: bool = False, whole: bool = False) -> dict:
+    """Draw some layers' toolpaths side by side into a PNG (roles coloured, travel in grey), with a
+    legend of the roles drawn and an oblique view of the whole part if asked.
 
     Composed as a pixel array with OpenCV (`slicelab.viz.canvas`), not a
     matplotlib figure, whose import and layout cost `slicelab slice --preview`
     some 0.4 s (measured by hand): each panel is framed, with millimetre ticks, and titled with
-    its layer and height; paths are drawn in their roles' colours
+    its layer and height (and why it was chosen); paths are drawn in their roles' colours
     (`slicelab.printing.roles.STYLES`), a colour at a time, over the travel
-    between them.
+    between them. All panels show the same box of the bed, at one scale.
 
     Parameters
     ----------
     plan : PrintPlan
     path : str or Path
         Written atomically.
-    layers : sequence of int, optional
-        Default: the first layer, a quarter of the way up, the middle and the top.
+    layers : sequence or str, optional
+        What `preview_layers` reads: layer numbers, ``"z=12.5"`` heights, `LAYER_WORDS`, or text
+        such as ``"0,57,z=12.5,last"``. Default: `default_preview_layers` (the first, middle and
+        last layers and the one with the most bridges and overhangs).
     pixels : int, default 400
         Size of the longer side of each panel.
+    legend : bool, default False
+        A legend of the roles drawn, at the right (`slicelab.viz.legend`).
+    whole : bool, default False
+        First, every layer seen from above at an angle (`oblique_view`).
 
     Returns
     -------
     dict
         ``"panels"``: each layer's panel ``(x, y, width, height)`` in pixels (top-left corner
-        first); ``"extent"``: the ``(x_min, x_max, y_min, y_max)`` (mm, part coordinates) each shows.
+        first); ``"extent"``: the ``(x_min, x_max, y_min, y_max)`` (mm, part coordinates) each shows;
+        ``"layers"``: per panel, ``{"layer", "z", "why"}``; ``"legend"``: its entries
+        (``{"label", "colour", "kinds"}``) and ``"legend_box"``, their strokes ``"legend_swatches"``;
+        ``"whole"``: the oblique view's box (None without).
+
+    Raises
+    ------
+    ValueError
+        When `layers` names a layer the plan does not have.
 
     See Also
     --------
@@ -266,46 +583,94 @@ def preview_png(plan, path, layers=None, *, pixels: int = 400) -> dict:
     [(70, 40, 100, 100), (225, 40, 100, 100)]
     >>> open(out, "rb").read(4)
     b'\\x89PNG'
+    >>> shown = preview_png(p, out, "first,last", pixels=100, legend=True, whole=True)
+    >>> [(d["layer"], d["why"]) for d in shown["layers"]]
+    [(0, 'first'), (4, 'last')]
+    >>> [e["label"] for e in shown["legend"]]
+    ['Skirt/Brim', 'External perimeter', 'Perimeter', 'Solid infill', 'Top solid infill', 'Travel']
     """
     from ..files.atomic import atomic_path
     from .canvas import Canvas
+    from .legend import TRAVEL_RGB, draw_legend, legend_entries, legend_size
     n = len(plan.layers)
-    if layers is None:
-        layers = sorted({0, n // 4, n // 2, n - 1}) if n else []
-    layers = [k for k in layers if 0 <= k < n]
-    if not layers:
+    if n == 0:
         raise ValueError("no layer to draw")
-    cols = min(4, len(layers))
-    rows = math.ceil(len(layers) / cols)
-    left, gap, top, bottom, right = 70, 55, 40, 40, 15
+    if layers is None:
+        picked = default_preview_layers(plan)
+    else:
+        picked = pick_preview_layers(preview_layers(layers), [lp.z for lp in plan.layers], plan)
+    cols = min(4, len(picked))
+    rows = math.ceil(len(picked) / cols)
+    subtitles = any(why for _, why in picked) or whole
+    left, gap, top, bottom, right = 70, 55, 56 if subtitles else 40, 40, 15
     size = int(pixels)
-    canvas = Canvas(left + cols * size + (cols - 1) * gap + right, top + rows * (size + top + bottom) - top)
-    boxes, extents = [], []
-    for i, k in enumerate(layers):  # over panels, a few
+    ww, wh = oblique_size(plan, size) if whole else (0, 0)
+    first_x = 15 + max(ww, 200) + left if whole else left  # the oblique view goes first, without ticks
+    # One box of the bed for every panel: the union of the layers' paths, a millimetre around.
+    tables = [list(plan.layers[k].pieces()) for k, _ in picked]
+    boxes = [(np.concatenate([q for _, q, _ in t]).min(axis=0), np.concatenate([q for _, q, _ in t]).max(axis=0))
+             for t in tables if t]
+    if boxes:
+        (x0, y0), (x1, y1) = np.min([b[0] for b in boxes], axis=0) - 1, np.max([b[1] for b in boxes], axis=0) + 1
+    else:
+        x0, y0, x1, y1 = -1.0, -1.0, 1.0, 1.0
+    scale = size / max(x1 - x0, y1 - y0)
+    w, h = max(int(round((x1 - x0) * scale)), 1), max(int(round((y1 - y0) * scale)), 1)
+    kinds = {kind for t in tables for kind, _, _ in t}
+    travel = any(len(t) > 1 for t in tables)
+    entries = legend_entries(kinds | set(plan_kinds(plan)) if whole else kinds, travel=travel) if legend else []
+    lw, lh = legend_size(entries) if legend else (0, 0)
+    panels_right = first_x + cols * size + (cols - 1) * gap
+    row = max(h, wh)  # each row as tall as its panels (and the first the oblique view)
+    canvas = Canvas(panels_right + (30 + lw if legend else 0) + right,
+                    max(top + rows * (row + top + bottom) - top, top + lh + bottom))
+    panels, extents, shown = [], [], []
+    for i, ((k, why), pieces) in enumerate(zip(picked, tables)):  # over panels, a few
         lp = plan.layers[k]
-        pieces = list(lp.pieces())
-        pts = np.concatenate([q for _, q, _ in pieces]) if pieces else np.zeros((1, 2))
-        (x0, y0), (x1, y1) = pts.min(axis=0) - 1, pts.max(axis=0) + 1
-        scale = size / max(x1 - x0, y1 - y0)
-        w, h = max(int(round((x1 - x0) * scale)), 1), max(int(round((y1 - y0) * scale)), 1)
-        px = left + (i % cols) * (size + gap) + (size - w) // 2
-        py = top + (i // cols) * (size + top + bottom) + (size - h) // 2
+        px = first_x + (i % cols) * (size + gap) + (size - w) // 2
+        py = top + (i // cols) * (row + top + bottom) + (row - h) // 2
 
         def at(q):  # mm -> pixels of the canvas (y up)
             return np.column_stack([px + (q[:, 0] - x0) * scale, py + (y1 - q[:, 1]) * scale])
 
-        travel = [np.stack([a[-1], b[0]]) for (_, a, _), (_, b, _) in zip(pieces, pieces[1:])]
-        canvas.lines([at(t) for t in travel], colour=(200, 200, 200))
+        moves = [np.stack([a[-1], b[0]]) for (_, a, _), (_, b, _) in zip(pieces, pieces[1:])]
+        canvas.lines([at(t) for t in moves], colour=TRAVEL_RGB)
         by_colour: dict = {}
         for kind, q, _ in pieces:  # over paths: grouped by colour, one drawing call each
             by_colour.setdefault(STYLES[kind].plot_colour, []).append(at(q))
         for colour, chains in by_colour.items():
-            rgb = tuple(int(colour[j:j + 2], 16) for j in (1, 3, 5))
-            canvas.lines(chains, colour=rgb)
-        canvas.axes(px, py, w, h, (x0, x1, y0, y1), title=f"layer {k}, z = {lp.z:.2f} mm")
-        boxes.append((px, py, w, h))
+            canvas.lines(chains, colour=rgb(colour))
+        title = f"layer {k}, z = {lp.z:.2f} mm"
+        canvas.axes(px, py, w, h, (x0, x1, y0, y1), title="" if why else title)
+        if why:
+            canvas.text(title, px + w / 2, py - 26, scale=1.2, anchor="centre")
+            canvas.text(why, px + w / 2, py - 8, anchor="centre", colour=(90, 90, 90))
+        panels.append((px, py, w, h))
         extents.append(tuple(float(v) for v in (x0, x1, y0, y1)))
+        shown.append({"layer": int(k), "z": round(float(lp.z), 6), "why": why})
+    whole_box = None
+    if whole:
+        mid = 15 + max(ww, 200) / 2
+        whole_box = oblique_view(plan, canvas, int(mid - ww / 2), top + (row - wh) // 2, size)["box"]
+        canvas.text(f"all {n} layers", mid, top - 26, scale=1.2, anchor="centre")
+        canvas.text("from the front right, 30 deg up", mid, top - 8, anchor="centre", colour=(90, 90, 90))
+    swatches, legend_box = [], None
+    if legend:
+        legend_box = (panels_right + 30, top, lw, lh)
+        swatches = draw_legend(canvas, entries, panels_right + 30, top)
     data = canvas.png()
     with atomic_path(path) as tmp:
         tmp.write_bytes(data)
-    return {"panels": boxes, "extent": extents}
+    return {"panels": panels, "extent": extents, "layers": shown,
+            "legend": [{"label": e.label, "colour": "#%02x%02x%02x" % e.rgb, "kinds": list(e.kinds)} for e in entries],
+            "legend_box": legend_box, "legend_swatches": swatches, "whole": whole_box}
+
+
+def plan_kinds(plan) -> set:
+    """The kinds of extrusion in any layer of `plan` (overhang pieces of walls included)."""
+    kinds = set()
+    for lp in plan.layers:  # over the layers
+        kinds.update(lp.kind)
+        if lp.hang and any(hg is not None and np.any(hg) for hg in lp.hang):
+            kinds.add("overhang")
+    return kinds
