@@ -210,7 +210,13 @@ def _add_slice(sub) -> None:
                    help="print the settings in force (as a settings file) and stop")
     p.add_argument("--workers", type=int, default=GIVEN, metavar="N", help="processes (default: all cores)")
     p.add_argument("--preview", dest="preview_dir", type=Path, default=None, metavar="DIR",
-                   help="also write DIR/layer_*.svg and DIR/preview.png")
+                   help="also write DIR/layer_*.svg, DIR/preview.png (a few layers, every layer seen "
+                        "obliquely, a legend of the roles) and DIR/preview.json (the layers it shows)")
+    p.add_argument("--preview-layers", default=GIVEN, metavar="LIST",
+                   help="the layers preview.png draws: layer numbers (0 is the first, as in layer_NNNN.svg), "
+                        "z=HEIGHT (the layer printed at that height above the bed, mm), first, middle, last, "
+                        "overhang (the most bridge and overhang area) or largest (the most material), "
+                        "separated by commas, e.g. 0,57,z=12.5,last (default: first, middle, last and overhang)")
     repair_flag(p, default=True)
 
 
@@ -236,6 +242,9 @@ def _run_slice(args) -> int:
     t = r.timings
     print(f"load {t.get('load', 0.0):.2f} s, plan {t['compute']:.2f} s, write {t['write']:.2f} s; wrote {args.output}"
           + (f" and {args.preview_dir}/" if args.preview_dir is not None else ""))
+    if s.get("preview_layers"):
+        print("preview: layers " + ", ".join(f"{d['layer']}" + (f" ({d['why']})" if d["why"] else "")
+                                             for d in s["preview_layers"]) + f", and all {s['layers']} seen obliquely")
     return 0
 
 

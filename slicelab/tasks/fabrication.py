@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import json
 
+import numpy as np
+
 from ..files.atomic import atomic_open
 from .spec import (
     Job,
@@ -226,12 +228,15 @@ def _size(name: str, value) -> list:
     return vector(name, value, size=2, positive=True)
 
 
-def _slice_parameters(*, printer=None, config=None, workers=None, preview: bool = False, repair: bool = True,
-                      fill_holes: bool = False, **settings) -> dict:
+def _slice_parameters(*, printer=None, config=None, workers=None, preview: bool = False, preview_layers=None,
+                      repair: bool = True, fill_holes: bool = False, **settings) -> dict:
     """`slicelab.printing.PrintSettings` fields in `settings` (left out: the printer profile's, then the
     settings file's, then PrintSettings' defaults; the first layer as thick as the others unless given;
     bed_size as ``"250x210"`` or two numbers); printer: a bundled profile's name; config: a TOML
-    settings file; workers: processes (None: all cores); preview: layer SVGs and a PNG; repair:
+    settings file; workers: processes (None: all cores); preview: layer SVGs and a PNG (a few layers,
+    an oblique view of them all, a legend); preview_layers: the layers the PNG draws, as
+    ``"0,57,z=12.5,last"`` or a list of such items (`slicelab.viz.layers.preview_layers`; None: the
+    first, middle and last and the one with the most bridges and overhangs); repair:
     `slicelab.repair` the mesh first when its check finds something to mend, as PrusaSlicer does
     (False refuses such a mesh instead); fill_holes: repair, and close the holes too."""
     from ..printing import PrintSettings, setting_names
@@ -259,7 +264,33 @@ def _slice_parameters(*, printer=None, config=None, workers=None, preview: bool 
         name, _, problem = str(exc).partition(" ")
         raise (ParameterError(name, problem) if name in known | {"printer"} else ValueError(str(exc))) from None
     return {**resolved, "workers": None if workers is None else whole("workers", workers, low=1),
-            "preview": bool(preview), "repair": bool(repair), "fill_holes": bool(fill_holes)}
+            "preview": bool(preview), "preview_layers": _preview_layers(preview_layers, preview),
+            "repair": bool(repair), "fill_holes": bool(fill_holes)}
+
+
+def _preview_layers(value, preview) -> list | None:
+    """The preview's layers as plain values (numbers, ``"z=H"``, words), checked for their form."""
+    if value is None:
+        return None
+    from ..viz.layers import preview_layers
+    try:
+        items = preview_layers(value)
+    except ValueError as exc:
+        raise ParameterError("preview_layers", str(exc)) from None
+    if not preview:
+        raise ParameterError("preview_layers", "chooses the layers of the preview: ask for one too "
+                                               "(--preview DIR)")
+    return list(items)
+
+
+def _picked_layers(p, tops, pp=None) -> list:
+    """The preview's layers among layers whose tops are `tops` (with the plan `pp`, all of them; before
+    planning, those that numbers and heights name), refused as a parameter where one does not exist."""
+    from ..viz.layers import pick_preview_layers
+    try:
+        return pick_preview_layers(p["preview_layers"], tops, pp)
+    except ValueError as exc:
+        raise ParameterError("preview_layers", str(exc)) from None
 
 
 def slice_settings(params: dict):
@@ -291,6 +322,12 @@ def _slice_feasible(inp, p):
     s = _settings(p)
     check_print(inp.mesh, layer_height=min(s.layer_height, s.first_layer_height), pixel_size=s.pixel_size,
                 line_width=s.line_width, n_perimeters=s.n_perimeters)
+    if p["preview"] and p["preview_layers"] and len(inp.mesh):
+        # Refused before any work: the layers the part will have (a part lowered into the bed to
+        # print its first layer loses some: checked again once planned, before anything is written).
+        from ..printing.planner import layer_bounds
+        _picked_layers(p, layer_bounds(float(np.ptp(inp.mesh.bounds[:, 2])), s.layer_height,
+                                       s.first_layer_height)[:, 1])
     try:
         check_bed(inp.mesh, s)
     except ValueError as exc:  # its message begins with the setting's name
@@ -315,6 +352,8 @@ def _slice_write(pp, inp, p, out):
         return {"results": {"print_time": totals["seconds"], "filament_used": totals["filament"]}}
     if out.folder is None:
         raise ValueError("a preview needs a folder")
+    if p["preview_layers"]:
+        _picked_layers(p, pp.z, pp)  # (before anything is written)
     from ..gcode import write_svgs
     from ..viz import preview_png
     totals = write_gcode(pp, out.path("gcode"), workers=p["workers"], notes=notes)  # (may fork: before any thread)
@@ -326,9 +365,12 @@ def _slice_write(pp, inp, p, out):
     with drawn_meanwhile((lambda: svgs.extend(write_svgs(pp, out.folder, workers=1))) if ahead else None):
         if not ahead:
             svgs += write_svgs(pp, out.folder, workers=p["workers"])
-        preview_png(pp, out.path("preview"))
+        shown = preview_png(pp, out.path("preview"), p["preview_layers"], legend=True, whole=True)
     out.record("svg", svgs)
-    return {"results": {"print_time": totals["seconds"], "filament_used": totals["filament"]}}
+    with atomic_open(out.path("preview_json"), "w", encoding="utf-8") as fh:
+        json.dump({"file": str(inp.path), "part_layers": len(pp.layers), **shown}, fh, indent=1)
+    return {"results": {"print_time": totals["seconds"], "filament_used": totals["filament"],
+                        "preview_layers": shown["layers"]}}
 
 
 def _slice_report(pp, inp, p):
@@ -345,6 +387,7 @@ def _slice_report(pp, inp, p):
 
 SLICE = Job(
     "slice", "plan every layer (perimeters, skins, infill) and write Marlin G-code",
-    _slice_parameters, {"gcode": "print.gcode", "svg": "layer_*.svg", "preview": "preview.png"},
+    _slice_parameters, {"gcode": "print.gcode", "svg": "layer_*.svg", "preview": "preview.png",
+                        "preview_json": "preview.json"},
     _slice_compute, _slice_write, _slice_report, feasible=_slice_feasible,
 )
