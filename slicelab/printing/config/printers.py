@@ -36,11 +36,22 @@ MARLIN_START = ("M140 S{bed_temperature:.0f}\nM104 S{nozzle_temperature:.0f}\n"
                  "G21 ; millimetres\nG90 ; absolute XYZ\nM83 ; relative extrusion\nG28 ; home\n")
 MARLIN_END = "M104 S0\nM140 S0\nM107\nG28 X0\nM84\n"
 
-#: Bundled printer profiles: values of `PrintSettings` fields.
+#: The Original Prusa i3 MK3's (and MK3S's) motion limits, as PrusaSlicer's PrusaResearch profile
+#: gives them (normal mode). Its firmware reads M204 S as both the printing and the travel
+#: acceleration (PrusaSlicer's "marlin" flavour writes that), so travel takes the printing value here.
+PRUSA_MK3_LIMITS = dict(machine_max_acceleration_extruding=1250.0, machine_max_acceleration_retracting=1250.0,
+                        machine_max_acceleration_travel=1250.0, machine_max_acceleration_x=1000.0,
+                        machine_max_acceleration_y=1000.0, machine_max_acceleration_z=200.0,
+                        machine_max_acceleration_e=5000.0, machine_max_feedrate_x=200.0, machine_max_feedrate_y=200.0,
+                        machine_max_feedrate_z=12.0, machine_max_feedrate_e=120.0, machine_max_jerk_x=8.0,
+                        machine_max_jerk_y=8.0, machine_max_jerk_z=0.4, machine_max_jerk_e=4.5)
+
+#: Bundled printer profiles: values of `PrintSettings` fields (the generic ones keep the default motion
+#: limits, PrusaSlicer's: no real machine's numbers are known for them).
 PRINTERS = {
     "prusa-mk3": dict(bed_size=(250.0, 210.0), max_height=210.0, nozzle_diameter=0.4, filament_diameter=1.75,
                       gcode_flavor="marlin", max_nozzle_temperature=300.0, max_bed_temperature=120.0,
-                      start_gcode=MARLIN_START, end_gcode=MARLIN_END),
+                      start_gcode=MARLIN_START, end_gcode=MARLIN_END, **PRUSA_MK3_LIMITS),
     "generic-marlin-220": dict(bed_size=(220.0, 220.0), max_height=250.0, nozzle_diameter=0.4,
                                filament_diameter=1.75, gcode_flavor="marlin", max_nozzle_temperature=260.0,
                                max_bed_temperature=100.0, start_gcode=MARLIN_START, end_gcode=MARLIN_END),

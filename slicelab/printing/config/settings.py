@@ -147,8 +147,11 @@ def _speed(default: float, help: str):
 
 @dataclass(frozen=True)
 class Motion(_Group):
-    """Speeds by extrusion kind and for travel (mm/s), retraction and lift (mm), and the
-    acceleration (mm/s^2) and jerk (mm/s) of the print-time estimate. Perimeter loops shorter
+    """Speeds by extrusion kind and for travel (mm/s), retraction and lift (mm), and two short
+    hands for the printer's limits (`Machine`): `acceleration` (mm/s^2), when above 0, is the
+    acceleration of printing, retracting and travel moves alike, in place of the three
+    ``machine_max_acceleration_*`` of those moves; `jerk` (mm/s), when above 0, is the X and Y
+    jerk in place of ``machine_max_jerk_x`` and ``_y``. Perimeter loops shorter
     than a 6.5 mm circle (PrusaSlicer's small perimeters) print at `small_perimeter_speed`, so that
     a small feature has time to cool."""
 
@@ -167,9 +170,11 @@ class Motion(_Group):
     retraction_speed: float = setting(35.0, "speed of retraction", "mm/s", 0.0, 500.0, above=True)
     retract_min_travel: float = setting(1.0, "shortest travel that retracts", "mm", 0.0, 1000.0)
     z_lift: float = setting(0.2, "nozzle lift on retracted travels", "mm", 0.0, 20.0)
-    acceleration: float = setting(1000.0, "acceleration, for the print-time estimate", "mm/s2", 0.0, 100000.0,
-                                  above=True)
-    jerk: float = setting(8.0, "jerk, for the print-time estimate", "mm/s", 0.0, 1000.0, above=True)
+    acceleration: float = setting(0.0, "one acceleration for printing, retracting and travel moves, in place of "
+                                       "the machine_max_acceleration_extruding, _retracting and _travel limits "
+                                       "(0: those)", "mm/s2", 0.0, 100000.0)
+    jerk: float = setting(0.0, "one jerk for X and Y, in place of the machine_max_jerk_x and _y limits (0: those)",
+                          "mm/s", 0.0, 1000.0)
 
 
 @dataclass(frozen=True)
@@ -203,7 +208,16 @@ class Machine(_Group):
     """The printer: bed (size and the centre the part goes to, mm), height, G-code flavour,
     start and end G-code templates (None: the flavour's), and the limits it sets: temperatures,
     layer height at most `max_layer_ratio` x the nozzle, line width within `line_width_ratio`
-    (low, high) x the nozzle."""
+    (low, high) x the nozzle.
+
+    And its motion limits, named and defaulted as PrusaSlicer's machine limits (the first of its
+    normal/silent pairs): the acceleration of printing, retracting and travel moves and of each
+    axis (mm/s^2), each axis's largest feed rate (mm/s) and its jerk (mm/s, Marlin's classic
+    jerk: the speed an axis may change by at once). With `machine_limits_usage`
+    ``"emit_to_gcode"`` they are written at the top of the G-code in the flavour's commands
+    (`slicelab.gcode.writer.machine_lines`) and the time estimate uses them
+    (`slicelab.gcode.estimate.machine_limits`); ``"time_estimate_only"``: the estimate alone;
+    ``"ignore"``: neither, the estimate taking PrusaSlicer's defaults as its own estimator does."""
 
     bed_size: tuple = setting((250.0, 210.0), "the bed (x, y)", "mm", 0.0, 10000.0, above=True, size=2)
     max_height: float = setting(210.0, "the printer's build height", "mm", 0.0, 10000.0, above=True)
@@ -220,6 +234,36 @@ class Machine(_Group):
     max_layer_ratio: float = setting(0.8, "the thickest layer, against the nozzle", "", 0.0, 1.5, above=True)
     line_width_ratio: tuple = setting((0.6, 2.5), "the narrowest and widest line, against the nozzle", "",
                                       0.0, 10.0, above=True, size=2)
+    machine_limits_usage: str = setting("emit_to_gcode", "the motion limits: written into the G-code and used by "
+                                                         "the time estimate, used by the estimate only, or neither",
+                                        choices=("emit_to_gcode", "time_estimate_only", "ignore"))
+    machine_max_acceleration_extruding: float = setting(1500.0, "acceleration of printing moves (M204 P)", "mm/s2",
+                                                        0.0, 100000.0, above=True)
+    machine_max_acceleration_retracting: float = setting(1500.0, "acceleration of retractions (M204 R)", "mm/s2",
+                                                         0.0, 100000.0, above=True)
+    machine_max_acceleration_travel: float = setting(1500.0, "acceleration of travel moves (M204 T)", "mm/s2",
+                                                     0.0, 100000.0, above=True)
+    machine_max_acceleration_x: float = setting(9000.0, "largest acceleration of the X axis (M201)", "mm/s2",
+                                                0.0, 100000.0, above=True)
+    machine_max_acceleration_y: float = setting(9000.0, "largest acceleration of the Y axis (M201)", "mm/s2",
+                                                0.0, 100000.0, above=True)
+    machine_max_acceleration_z: float = setting(500.0, "largest acceleration of the Z axis (M201)", "mm/s2",
+                                                0.0, 100000.0, above=True)
+    machine_max_acceleration_e: float = setting(10000.0, "largest acceleration of the extruder (M201)", "mm/s2",
+                                                0.0, 100000.0, above=True)
+    machine_max_feedrate_x: float = setting(500.0, "largest feed rate of the X axis (M203)", "mm/s", 0.0, 10000.0,
+                                            above=True)
+    machine_max_feedrate_y: float = setting(500.0, "largest feed rate of the Y axis (M203)", "mm/s", 0.0, 10000.0,
+                                            above=True)
+    machine_max_feedrate_z: float = setting(12.0, "largest feed rate of the Z axis (M203)", "mm/s", 0.0, 10000.0,
+                                            above=True)
+    machine_max_feedrate_e: float = setting(120.0, "largest feed rate of the extruder (M203)", "mm/s", 0.0, 10000.0,
+                                            above=True)
+    machine_max_jerk_x: float = setting(10.0, "jerk of the X axis, the speed it may change by at once (M205)",
+                                        "mm/s", 0.0, 1000.0)
+    machine_max_jerk_y: float = setting(10.0, "jerk of the Y axis (M205)", "mm/s", 0.0, 1000.0)
+    machine_max_jerk_z: float = setting(0.2, "jerk of the Z axis (M205)", "mm/s", 0.0, 1000.0)
+    machine_max_jerk_e: float = setting(2.5, "jerk of the extruder (M205)", "mm/s", 0.0, 1000.0)
 
 
 @dataclass(frozen=True)
