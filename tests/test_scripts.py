@@ -95,6 +95,12 @@ CASES = {
         # Its child writes into data/large/ even on a small file: --help only.
         Run(("--help",), (r"Benchmark depth segmentation: split the 5M-facet pot through its axis",)),
     ],
+    "check_estimate.py": [
+        # The smallest part; PrusaSlicer's columns empty where it is not installed.
+        Run(("--parts", "cube", "--keep", "{tmp}"),
+            (r"^part +PrusaSlicer +ours, its file +ratio +ours, our file", r"^cube +", r"^G-code in "),
+            files=("cube.slicelab.gcode",)),
+    ],
     "check_gcode.py": [
         Run(("-m", "slicelab", "slice", "data/cube_with_hole.stl", "-o", "{tmp}/cube.gcode"), module=True),
         Run(("{tmp}/cube.gcode", "--mesh", "data/cube_with_hole.stl"),
