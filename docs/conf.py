@@ -36,13 +36,14 @@ extensions = [
     "sphinx.ext.mathjax",
     "numpydoc",
     "myst_nb",
+    "apipages",
     "benchresults",
     "datadocs",
 ]
 
 source_suffix = {".rst": "restructuredtext", ".md": "myst-nb", ".ipynb": "myst-nb"}
 root_doc = "index"
-exclude_patterns = ["_build", "_generated", "performance/results", "**.ipynb_checkpoints"]
+exclude_patterns = ["_build", "_generated", "performance/tables", "**.ipynb_checkpoints"]
 templates_path = ["_templates"]
 
 # Single backticks in the docstrings name objects (`Mesh`, `section`): links where Sphinx finds the

@@ -2,7 +2,7 @@
 
     .venv/bin/python scripts/bench_io.py              # data/large/*.stl, median of 3 runs each
     .venv/bin/python scripts/bench_io.py --repeat 1 --files torus_1m.stl
-    .venv/bin/python scripts/bench_io.py --docs       # also the docs' table (docs/performance/results/)
+    .venv/bin/python scripts/bench_io.py --docs       # also the docs' table (docs/performance/tables/)
 
 For every file in data/large/ (written by ``make data-large`` if missing) this
 times, each in a fresh child process (see scripts/benchlib.py):

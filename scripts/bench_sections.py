@@ -1,7 +1,7 @@
 """Benchmark sections: every layer of a 1M-facet torus, and one section of a 5M-facet pot.
 
     .venv/bin/python scripts/bench_sections.py
-    .venv/bin/python scripts/bench_sections.py --docs   # also the docs' table (docs/performance/results/)
+    .venv/bin/python scripts/bench_sections.py --docs   # also the docs' table (docs/performance/tables/)
 
 1. ``slicelab.slice_layers(mesh, 0.2)`` of data/large/torus_1m.stl (100 layers,
    chained into loops with the hole hierarchy) beside trimesh's

@@ -106,15 +106,16 @@ def run_command(*args: str) -> tuple[float, float, str]:
 
 # --- Tables for the documentation -------------------------------------------------------------------
 # A benchmark run with ``--docs`` also writes what it printed, with the machine and the date, to
-# docs/performance/results/NAME.rst, which the "Validation and performance" pages include (the
+# docs/performance/tables/NAME.rst, which the "Validation and performance" pages include (the
 # ``bench-result`` directive of docs/_ext/benchresults.py); without the file they say how to make it.
 
-DOCS_RESULTS = ROOT / "docs" / "performance" / "results"
+DOCS_RESULTS = ROOT / "docs" / "performance" / "tables"
 
 
 def machine_facts() -> dict[str, str]:
     """The machine and software a measurement ran on: CPU model, cores, RAM, OS, Python, numpy,
-    how the compiled kernels load, and the commit measured (``+`` if the tree had changes)."""
+    how the compiled kernels load, the commit measured (``+`` if the tree had changes) and the
+    load average when it ended (other work on the machine makes timings noisy)."""
     import datetime
     import platform
 
@@ -140,8 +141,9 @@ def machine_facts() -> dict[str, str]:
     if run("git", "status", "--porcelain", "--untracked-files=no", "--", "slicelab", "scripts"):
         commit += "+"
     version = run(sys.executable, "-m", "slicelab", "--version") or "slicelab (version unknown)"
+    load = f", load average {os.getloadavg()[0]:.1f} at the end" if hasattr(os, "getloadavg") else ""
     return {
-        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC") + load,
         "machine": f"{cpu}, {os.cpu_count()} cores{ram}, {platform.system()} {platform.release()} "
                    f"{platform.machine()}",
         "software": f"Python {platform.python_version()}, numpy {np.__version__}, {version}",
@@ -150,7 +152,7 @@ def machine_facts() -> dict[str, str]:
 
 
 def write_docs_results(name: str, text: str, command: str) -> Path:
-    """Write `text` (what benchmark `name` printed) to ``docs/performance/results/NAME.rst`` as a
+    """Write `text` (what benchmark `name` printed) to ``docs/performance/tables/NAME.rst`` as a
     literal block under the command that made it, the date and the machine; return the path."""
     facts = machine_facts()
     body = "".join(f"   {line}".rstrip() + "\n" for line in text.rstrip().splitlines())

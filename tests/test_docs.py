@@ -28,7 +28,7 @@ def _pages() -> list[Path]:
     generated = ("_build", "_generated", "notebooks", "generated")
     return sorted(p for p in DOCS.rglob("*.rst")
                   if not any(part in generated for part in p.relative_to(DOCS).parts)
-                  and not p.name.startswith("slicelab.") and "results" not in p.parts)
+                  and not p.name.startswith("slicelab.") and "tables" not in p.parts)
 
 
 def _toctree_entries(page: Path) -> list[str]:
@@ -79,7 +79,7 @@ def test_every_benchmark_named_exists():
              for name in re.findall(r"^\.\. bench-result:: (\S+)", page.read_text(), re.M)]
     assert named
     assert all((ROOT / "scripts" / f"{name}.py").exists() for _, name in named), named
-    for result in (DOCS / "performance" / "results").glob("*.rst"):
+    for result in (DOCS / "performance" / "tables").glob("*.rst"):
         assert (ROOT / "scripts" / f"{result.stem}.py").exists(), result
         text = result.read_text()
         for field in (":Command:", ":Measured:", ":Machine:", ":Software:"):

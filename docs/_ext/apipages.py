@@ -38,7 +38,7 @@ def _underline(text: str, char: str) -> str:
 def _table(module: str, names: list[str]) -> str:
     rows = "".join(f"   {n}\n" for n in names)
     return (f".. currentmodule:: {module}\n\n"
-            f".. autosummary::\n   :toctree: generated/\n\n{rows}\n")
+            f".. autosummary::\n   :toctree: generated/\n   :nosignatures:\n\n{rows}\n")
 
 
 def page(sub: str) -> str:
@@ -63,14 +63,36 @@ def page(sub: str) -> str:
     return "".join(out)
 
 
+def _documented() -> list[tuple[str, object]]:
+    """(name, object) of every name the API pages document, in page order."""
+    out = []
+    for sub in SUBPACKAGES:
+        module = importlib.import_module(f"slicelab.{sub}")
+        shown = set()
+        for name in getattr(module, "__all__", []):
+            out.append((f"slicelab.{sub}.{name}", getattr(module, name)))
+            shown.add(name)
+        for nested in public_packages(PACKAGE / sub):
+            nested_module = importlib.import_module(f"slicelab.{sub}.{nested}")
+            for name in getattr(nested_module, "__all__", []):
+                if name not in shown:
+                    out.append((f"slicelab.{sub}.{nested}.{name}", getattr(nested_module, name)))
+                    shown.add(name)
+    return out
+
+
+def _homeable(obj) -> bool:
+    """Objects whose identity names them (not numbers or strings, which may be shared)."""
+    return not isinstance(obj, (int, float, str, bytes, bool, type(None)))
+
+
 def top_level_table() -> str:
     """A list-table of ``slicelab.__all__``: each top-level name and where its entry is."""
     import slicelab
     homes: dict[int, str] = {}
-    for sub in SUBPACKAGES:
-        module = importlib.import_module(f"slicelab.{sub}")
-        for n in getattr(module, "__all__", []):
-            homes.setdefault(id(getattr(module, n)), f"slicelab.{sub}.{n}")
+    for name, obj in _documented():
+        if _homeable(obj):
+            homes.setdefault(id(obj), name)
     rows = []
     for n in slicelab.__all__:
         obj = getattr(slicelab, n)
@@ -94,3 +116,79 @@ def write_pages() -> list[str]:
         _write(API / f"slicelab.{sub}.rst", page(sub))
     _write(ROOT / "docs" / "_generated" / "top_level.rst", top_level_table())
     return [f"slicelab.{sub}" for sub in SUBPACKAGES]
+
+
+# --- Links to the page where an object is documented ------------------------------------------------
+# A docstring or a guide names an object where it is defined (`slicelab.printing.roles.KINDS`), by a
+# top-level alias (`slicelab.plan`) or bare (`PrintSettings`); the pages document it once, under the
+# subpackage that exports it. A reference Sphinx does not find is sent to that entry: by the object's
+# identity when the name imports, or by a bare name that one documented entry alone ends with.
+
+_HOMES: dict | None = None
+
+
+def _homes() -> dict:
+    global _HOMES
+    if _HOMES is None:
+        by_id, by_tail, keep = {}, {}, []
+        for name, obj in _documented():
+            if _homeable(obj):
+                by_id.setdefault(id(obj), name)
+                keep.append(obj)
+            by_tail.setdefault(name.rsplit(".", 1)[1], set()).add(name)
+        _HOMES = {"id": by_id, "tail": by_tail, "keep": keep}
+    return _HOMES
+
+
+def _import(target: str):
+    """The object a dotted name under slicelab names, or None."""
+    parts = target.split(".")
+    for cut in range(len(parts), 0, -1):
+        try:
+            obj = importlib.import_module(".".join(parts[:cut]))
+        except ImportError:
+            continue
+        try:
+            for attr in parts[cut:]:
+                obj = getattr(obj, attr)
+        except AttributeError:
+            return None
+        return obj
+    return None
+
+
+def home_of(target: str) -> str | None:
+    """The documented name for `target`, when it is not documented under that name itself."""
+    homes = _homes()
+    target = target.lstrip("~.")
+    if target.startswith("slicelab."):
+        obj = _import(target)
+        if obj is not None and _homeable(obj):
+            home = homes["id"].get(id(obj))
+            if home and home != target:
+                return home
+        return None
+    if "." not in target:
+        names = homes["tail"].get(target, set())
+        if len(names) == 1:
+            return next(iter(names))
+    return None
+
+
+def resolve_to_home(app, env, node, contnode):
+    if node.get("refdomain") != "py":
+        return None
+    home = home_of(node.get("reftarget", ""))
+    if home is None:
+        return None
+    domain = env.get_domain("py")
+    for role in (node.get("reftype", "obj"), "obj"):
+        found = domain.resolve_xref(env, node.get("refdoc"), app.builder, role, home, node, contnode)
+        if found is not None:
+            return found
+    return None
+
+
+def setup(app):
+    app.connect("missing-reference", resolve_to_home)
+    return {"parallel_read_safe": True, "parallel_write_safe": True}

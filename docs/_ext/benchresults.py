@@ -1,6 +1,6 @@
 """``.. bench-result:: bench_io``: a benchmark's table as the script last wrote it for the docs.
 
-A script run with ``--docs`` writes ``docs/performance/results/NAME.rst``
+A script run with ``--docs`` writes ``docs/performance/tables/NAME.rst``
 (`scripts/benchlib.py`, ``docs_output``): what it printed, under the command,
 the date, the commit and the machine. The directive puts the script's summary
 line (the first line of its docstring) above that file, or, when the file is
@@ -19,7 +19,7 @@ from sphinx.util.docutils import SphinxDirective
 
 ROOT = Path(__file__).resolve().parents[2]
 SCRIPTS = ROOT / "scripts"
-RESULTS = ROOT / "docs" / "performance" / "results"
+RESULTS = ROOT / "docs" / "performance" / "tables"
 
 
 def summary(script: Path) -> str:
