@@ -336,11 +336,11 @@ def _format_run(ks: list, layers: list, heights: list, s, off, starts: list, the
     the move after it (`next_move`): its inputs come as arguments, so a pool's worker needs
     nothing from its parent."""
     fixed_inputs = WriterSettings.of(s)
-    return [_layer_block(k, lp, h, s, off, pos, at, fixed_inputs, then)
+    return [_layer_block(k, lp, h, s, off, pos, at, fixed_inputs, then=then)
             for k, lp, h, (pos, at), then in zip(ks, layers, heights, starts, thens)]
 
 
-def _layer_block(k: int, lp, h: float, s, off, pos, at, fixed_inputs: WriterSettings,
+def _layer_block(k: int, lp, h: float, s, off, pos, at, fixed_inputs: WriterSettings, *,
                  then=None) -> tuple[str, float, float]:
     """One layer's G-code (without its header; its fan as a marker), its time and filament, written
     by the compiled pass (`slicelab.gcode.text_kernels.layer_moves`); its time ends into `then`
