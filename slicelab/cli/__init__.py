@@ -148,9 +148,7 @@ def run() -> int:
     closed, and the process ends. The exit handlers run as at any exit (the
     process pools', Dask's, temporary directories'), the standard streams are
     flushed, and the process ends there, without the interpreter's teardown
-    of every module and object: 10-20 ms of each command on this machine
-    (`scripts/bench_revisions.py`, five turns each, medians: the bridge
-    0.38 -> 0.36 s, the mushroom 0.42 -> 0.40 s, the teapot 1.29 -> 1.27 s).
+    of every module and object, which would add to every command's wall time.
     While a thread that is not a daemon still runs, the process ends the
     usual way, which waits for it. The garbage collector's objects are
     frozen first: its last collection would walk every object the compiled

@@ -279,12 +279,10 @@ _GCODE_RUN = 25
 
 
 def _pooled(plan, layers: list | None = None) -> bool:
-    """Whether formatting the plan's layers (all, or those listed) is worth a pool: its time in
-    one process, about 0.1 ms a layer and 0.35 us a path point with the compiled writer, above
-    0.15 s, against some 20 ms to start a pool plus the layers' pickling and the gathering of
-    their text (in one process and with two: the pot's 600 layers and 336,000 points 0.17 and
-    0.15 s, the block's 300 layers and 250,000 points 0.10 and 0.11 s, the teapot's 293 layers
-    0.07 and 0.08 s)."""
+    """Whether formatting the plan's layers (all, or those listed) is worth a pool: when its
+    estimated time in one process (a cost per layer plus a cost per path point of the compiled
+    writer) passes 0.15 s, which outweighs starting a pool, pickling the layers and gathering
+    their text. Plans of at most twice `_GCODE_RUN` layers are formatted in one process."""
     ks = range(len(plan.layers)) if layers is None else layers
     points = sum(len(q) for k in ks for q in plan.layers[k].paths)  # over paths
     return len(ks) > 2 * _GCODE_RUN and 1e-4 * len(ks) + 3.5e-7 * points > 0.15

@@ -10,9 +10,9 @@ the same source:
 - **ahead of time**: `build` compiles every kernel, for each argument type it
   is called with, into an extension module beside this file (numba's
   ``pycc``, which needs a C compiler), with a table of those types. Loading
-  it takes a millisecond and needs no numba at run time; numba's own start
-  (its import and first load of cached kernels) is a few tenths of a second
-  at every command, more than many small parts take to slice.
+  it needs no numba at run time, so a command skips numba's import and the
+  first load of its cached kernels, which would cost more than many small
+  parts take to slice.
 - **just in time**: numba, compiled on the first call and cached on disk
   (`numba.njit`), for any argument types. It is used wherever the built
   module is missing (no compiler at install), stale (its sources' hash is not

@@ -1,9 +1,9 @@
 """Compiled loops over graphs and pixel sets: connected components by union-find, and thinning.
 
-Two small algorithms that every print plan and mesh check runs, compiled
-here so that a command never imports SciPy or scikit-image for them (their
-imports cost 0.2-0.25 s per command, more than PrusaSlicer takes to slice a
-small part; `scripts/bench_slice.py` prints that floor).
+Small algorithms that every print plan and mesh check runs, compiled here so
+that a command never imports SciPy or scikit-image for them (their imports
+would add to every command's start-up: `scripts/bench_slice.py` prints by how
+much).
 
 - `label_components` labels the connected components of an undirected
   graph given by its edge list, as ``scipy.sparse.csgraph.connected_components``

@@ -2,8 +2,8 @@
 
 Both run as compiled loops (`slicelab.geometry.graph_kernels`), so that
 slicing, checking a mesh and planning a print import neither SciPy nor
-scikit-image: their imports would add 0.2-0.3 s to every command
-(`scripts/bench_slice.py` prints it), more than PrusaSlicer needs to slice a small part.
+scikit-image, whose imports would add to every command's start-up
+(`scripts/bench_slice.py` prints what each would add).
 """
 from __future__ import annotations
 

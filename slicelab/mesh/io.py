@@ -188,8 +188,8 @@ def _read(p: Path) -> Mesh:
 def _read_binary(p: Path, count: int):
     """The facets and stored normals of a binary STL whose size matches its count (checked by the
     caller): its records read straight into `STL_RECORD`s. numpy-stl reads the same records, but
-    importing it would cost every command some 0.04 s (`scripts/bench_slice.py` prints it); it still reads
-    ASCII STL."""
+    importing it would add to every command's start-up (`scripts/bench_slice.py` prints by how much);
+    it still reads ASCII STL."""
     try:
         records = np.fromfile(p, dtype=STL_RECORD, count=count, offset=_HEADER + 4)
     except (OSError, ValueError) as exc:
