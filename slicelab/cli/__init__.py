@@ -30,15 +30,13 @@ COMMANDS = ["inspect", "section", "layers", "split", "profile", "batch", "cut", 
 
 
 class _Version(argparse.Action):
-    """``--version``: the version, and whether the kernels run from the module built at install
-    (`slicelab.geometry.compiled.status`), which a slow start or a bug report needs to know."""
+    """``--version``: the version, and which compiled kernels a command runs: the module built at
+    install, or numba's and where they are cached (`slicelab.geometry.compiled.describe`), which a
+    slow start or a bug report needs to know."""
 
     def __call__(self, parser, namespace, values, option_string=None):
-        from ..geometry.compiled import status
-        state = status()
-        how = {"loaded": "built ahead of time", "off": "numba's, as SLICELAB_JIT=1 asks"}.get(
-            state, f"numba's, compiled on first use; the ahead-of-time module: {state}")
-        print(f"slicelab {__version__} (compiled kernels: {how})")
+        from ..geometry.compiled import describe
+        print(f"slicelab {__version__} (compiled kernels: {describe()})")
         parser.exit()
 
 

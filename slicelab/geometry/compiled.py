@@ -22,6 +22,12 @@ A call looks its arguments' types up in the table first (each array's dtype,
 dimensions, layout and writability, each scalar's type, as numba types them),
 so a compiled function only ever receives the types it was compiled for.
 
+numba's forms are cached in the user's cache folder (`cache_dir`), not beside
+the package, which may be read-only; a command that compiles them says so
+once on stderr (`COMPILING`), and ``slicelab --version`` says which forms run
+(`describe`). A wheel carries the built module: setup.py calls `build` when
+the package is built.
+
 See Also
 --------
 slicelab.geometry.kernels.warm : calls every kernel once with the types the layers use.
@@ -42,7 +48,8 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["njit", "Kernel", "build", "status", "select", "arguments_key", "kernel_modules"]
+__all__ = ["njit", "Kernel", "build", "status", "select", "arguments_key", "kernel_modules", "cache_dir",
+           "cached_kernels", "describe"]
 
 #: The package whose modules are searched for kernels (by their import of this module's `njit`).
 #: Name of the extension module `build` writes beside this file, and of its table.
@@ -120,9 +127,12 @@ def kernel_modules() -> tuple:
 
 
 def _sources_hash(modules) -> str:
-    """A hash of the kernels' sources, of this module and of numpy's version (the built module
-    unboxes its arrays): a module built from other sources, or for another numpy, is not used."""
-    h = hashlib.sha256(np.__version__.encode())
+    """A hash of the kernels' sources, of this module and of numpy's major version: a module built
+    from other sources, or for another numpy, is not used. (The built module unboxes its arrays
+    through numpy's C API, whose binary interface holds within a major version: a wheel built
+    against one numpy 2 serves another; one a numpy too old cannot load fails to import, and is
+    not used either.)"""
+    h = hashlib.sha256(np.__version__.split(".")[0].encode())
     for name in (*modules, "geometry.compiled"):
         h.update((_HERE.parent / f"{name.replace('.', '/')}.py").read_bytes())
     return h.hexdigest()
@@ -169,8 +179,7 @@ class Kernel:
         if self.dispatcher is None and self.__module__ in sys.modules:
             _jit_module(sys.modules[self.__module__])
         if self.dispatcher is None:  # a kernel its module does not hold (made elsewhere)
-            import numba
-            self.dispatcher = numba.njit(**self.options)(self.py_func)
+            self.dispatcher = _numba().njit(**self.options)(self.py_func)
         return self.dispatcher
 
 
@@ -197,7 +206,7 @@ def _jit_module(module) -> None:
     """numba forms of every kernel of a module, which it then holds in place of the kernels, so
     that numba, compiling one, finds the others it calls, its own or imported from another kernel
     module (and the intrinsics listed in the module's ``_NUMBA_GLOBALS``, name -> "module:attribute")."""
-    import numba
+    numba = _numba()
     for name, where in getattr(module, "_NUMBA_GLOBALS", {}).items():
         mod, _, attr = where.partition(":")
         module.__dict__[name] = getattr(importlib.import_module(mod), attr)
@@ -369,3 +378,116 @@ def build(*, quiet: bool = False) -> str:
     # This process goes on with numba's forms: an extension module, once imported, is not
     # imported again, so the new one serves from the next process on.
     return f"{len(exports)} kernel forms built ahead of time into {target.name}"
+
+
+#: Said on stderr when numba starts compiling a kernel of slicelab in a process (once), with the
+#: folder its forms are cached in: loading them from there later says nothing.
+COMPILING = "slicelab: compiling the kernels with numba, once per installation (about a minute); cached in {}"
+_NUMBA: list = []  # numba, once `_numba` has imported it
+_NOTICED: list = []  # True once `COMPILING` has been said in this process
+
+
+def cache_dir() -> Path:
+    """The folder numba's just-in-time forms are cached in: ``NUMBA_CACHE_DIR`` where it is set,
+    else slicelab's folder in the user's cache: ``$XDG_CACHE_HOME/slicelab/numba``, by default
+    ``~/.cache/slicelab/numba`` (``~/Library/Caches/slicelab/numba`` on macOS,
+    ``%LOCALAPPDATA%\\slicelab\\numba`` on Windows).
+
+    Never beside the package, where numba caches by default: an installation may be read-only
+    (a system's or a shared environment's site-packages), and every run would compile again.
+    numba keeps each installation's forms apart (a subfolder per folder of sources).
+
+    Examples
+    --------
+    >>> import os
+    >>> cache_dir() == Path(os.environ["NUMBA_CACHE_DIR"]) if "NUMBA_CACHE_DIR" in os.environ else True
+    True
+    """
+    given = os.environ.get("NUMBA_CACHE_DIR")
+    if given:
+        return Path(given).expanduser()
+    home = Path(os.path.expanduser("~"))
+    if sys.platform == "win32":
+        root = Path(os.environ.get("LOCALAPPDATA") or home / "AppData" / "Local")
+    elif sys.platform == "darwin":
+        root = home / "Library" / "Caches"
+    else:
+        xdg = os.environ.get("XDG_CACHE_HOME", "")
+        root = Path(xdg) if os.path.isabs(xdg) else home / ".cache"
+    return root / "slicelab" / "numba"
+
+
+def _numba():
+    """numba, imported with its disk cache in `cache_dir` (``NUMBA_CACHE_DIR`` set for this process
+    and those it starts, unless the user set it) and the notice of a compile (`COMPILING`) listening."""
+    if _NUMBA:
+        return _NUMBA[0]
+    os.environ.setdefault("NUMBA_CACHE_DIR", str(cache_dir()))
+    import numba
+    from numba.core import config, event
+    if not config.CACHE_DIR:  # numba was imported before, its environment read without it
+        config.CACHE_DIR = os.environ["NUMBA_CACHE_DIR"]
+
+    class CompileNotice(event.Listener):
+        """Says `COMPILING` when numba compiles a kernel of slicelab (a cache miss): only then."""
+
+        def on_start(self, ev):
+            func = getattr(ev.data.get("dispatcher"), "py_func", None)
+            if not _NOTICED and getattr(func, "__module__", "").startswith("slicelab."):
+                _NOTICED.append(True)
+                print(COMPILING.format(config.CACHE_DIR), file=sys.stderr, flush=True)
+
+        def on_end(self, ev):
+            pass
+
+    event.register("numba:compile", CompileNotice())
+    _NUMBA.append(numba)
+    return numba
+
+
+def cached_kernels() -> tuple[int, int]:
+    """How many of the kernels numba has in its disk cache (`cache_dir`), of how many: those with
+    an index (numba's ``.nbi`` file, named after the kernel's module, name and first line) newer
+    than their source. Only files are read: numba is not imported.
+
+    Examples
+    --------
+    >>> done, total = cached_kernels()
+    >>> 0 <= done <= total and total > 10
+    True
+    """
+    root = cache_dir()
+    tag = f"py{sys.version_info[0]}{sys.version_info[1]}{getattr(sys, 'abiflags', '')}"
+    kernels = _kernels(kernel_modules()).values()
+    done = 0
+    for k in kernels:
+        code = k.py_func.__code__
+        folder = os.path.dirname(os.path.abspath(code.co_filename))
+        sub = f"{os.path.basename(folder)}_{hashlib.sha1(folder.encode()).hexdigest()}"
+        stem = os.path.splitext(os.path.basename(code.co_filename))[0]
+        index = root / sub / f"{stem}.{k.__qualname__}-{code.co_firstlineno}.{tag}.nbi"
+        try:
+            done += index.stat().st_mtime >= os.stat(code.co_filename).st_mtime
+        except OSError:
+            pass
+    return done, len(kernels)
+
+
+def describe() -> str:
+    """Which compiled forms of the kernels a command runs, and where from, as ``slicelab --version``
+    says it: the module built ahead of time (its file), or numba's (its cache folder, how many
+    kernels it holds, and why the built module is not used).
+
+    Examples
+    --------
+    >>> describe().startswith(("built ahead of time", "numba's"))
+    True
+    """
+    state = status()
+    if state == "loaded":
+        return f"built ahead of time, {sys.modules[f'{__package__}.{EXTENSION}'].__file__}"
+    done, total = cached_kernels()
+    cached = ("none cached yet: the first command compiles them, about a minute" if done == 0
+              else f"all {total} cached" if done == total else f"{done} of {total} cached")
+    why = "as SLICELAB_JIT=1 asks" if state == "off" else f"the ahead-of-time module: {state}"
+    return f"numba's, compiled on first use and cached in {cache_dir()} ({cached}); {why}"
