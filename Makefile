@@ -12,16 +12,19 @@ $(BIN)/python:
 
 # After installing, and again whenever their sources change, the compiled kernels are built
 # (about 40 s): ahead of time into an extension module where a C compiler is at hand, and into
-# numba's disk cache, the fallback (slicelab.geometry.compiled). No run compiles them again.
+# numba's disk cache in the user's cache folder, the fallback (slicelab.geometry.compiled). No
+# run compiles them again. The install is editable, which builds no kernels (setup.py builds
+# them into a wheel: `pip install .`).
+PACKAGING := pyproject.toml setup.py build_support/backend.py
 EXT     := _aot_kernels
 KERNELS := slicelab/geometry/compiled.py $(shell grep -rl --include='*.py' "import njit" slicelab)
 BUILD   := $(BIN)/python -c "from slicelab.geometry import compiled; print(compiled.build())"
 
-$(VENV)/.installed: pyproject.toml | $(BIN)/python
+$(VENV)/.installed: $(PACKAGING) | $(BIN)/python
 	$(PIP) -e .
 	touch $@
 
-$(VENV)/.installed-dev: pyproject.toml | $(BIN)/python
+$(VENV)/.installed-dev: $(PACKAGING) | $(BIN)/python
 	$(PIP) -e '.[dev]'
 	touch $@ $(VENV)/.installed
 
@@ -50,7 +53,7 @@ figures: data
 # outside git-ignored paths.
 .PHONY: docs
 
-$(VENV)/.installed-docs: pyproject.toml | $(BIN)/python
+$(VENV)/.installed-docs: $(PACKAGING) | $(BIN)/python
 	$(PIP) -e '.[docs]'
 	touch $@ $(VENV)/.installed
 
@@ -61,4 +64,4 @@ bench: data-large $(VENV)/.installed-dev $(VENV)/.kernels
 	for s in scripts/bench_*.py; do $(BIN)/python $$s || exit 1; done
 
 clean:
-	rm -rf $(VENV) results .pytest_cache slicelab/geometry/$(EXT)*
+	rm -rf $(VENV) build results .pytest_cache slicelab/geometry/$(EXT)*
