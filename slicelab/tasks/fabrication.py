@@ -272,7 +272,7 @@ def _preview_layers(value, preview) -> list | None:
     """The preview's layers as plain values (numbers, ``"z=H"``, words), checked for their form."""
     if value is None:
         return None
-    from ..viz.layers import preview_layers
+    from ..viz.layer_choice import preview_layers
     try:
         items = preview_layers(value)
     except ValueError as exc:
@@ -286,7 +286,7 @@ def _preview_layers(value, preview) -> list | None:
 def _picked_layers(p, tops, pp=None) -> list:
     """The preview's layers among layers whose tops are `tops` (with the plan `pp`, all of them; before
     planning, those that numbers and heights name), refused as a parameter where one does not exist."""
-    from ..viz.layers import pick_preview_layers
+    from ..viz.layer_choice import pick_preview_layers
     try:
         return pick_preview_layers(p["preview_layers"], tops, pp)
     except ValueError as exc:
