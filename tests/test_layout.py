@@ -138,3 +138,65 @@ def test_no_import_cycle_between_modules():
 def test_no_module_is_over_600_lines():
     long = {m: n for m, p in _modules().items() if (n := len(p.read_text().splitlines())) > MAX_LINES}
     assert not long, long
+
+
+# Floors of the package, lowest first: a subpackage imports only from floors below its own, at
+# any level (a deferred import inside a function counts: it is a dependency all the same). The
+# private helpers at the root (`_lazy`, `_pools`) are the basement and import nothing of slicelab.
+FLOORS = [["_lazy", "_pools"], ["geometry"], ["files"], ["mesh"], ["samples", "slicing"],
+          ["printing", "artefacts"], ["gcode"], ["viz"], ["tasks"], ["cli"], ["__main__"]]
+
+
+def _floor(module: str) -> tuple[str, int]:
+    parts = module.split(".")
+    name = parts[1] if len(parts) > 1 else ""
+    for level, names in enumerate(FLOORS):
+        if name in names:
+            return name, level
+    return name, len(FLOORS)      # the package's __init__: the top, it re-exports every floor
+
+
+def test_every_subpackage_is_on_a_floor():
+    subs = {p.name for p in PACKAGE.iterdir() if p.is_dir() and (p / "__init__.py").exists()}
+    subs |= {p.stem for p in PACKAGE.glob("_*.py") if p.stem != "__init__"} | {"__main__"}
+    assert subs == {n for names in FLOORS for n in names}
+
+
+def test_no_import_goes_up_a_floor():
+    """Ground floors (geometry, files, mesh) import nothing above them; no two subpackages import each other."""
+    bad = []
+    for importer, target, names, _ in _imports(top_level_only=False):
+        (a, fa), (b, fb) = _floor(importer), _floor(target)
+        if target == "slicelab" and names == ["__version__"]:
+            continue      # the version string, set before anything else is imported
+        if a != b and fb >= fa:
+            bad.append(f"{importer} (floor {fa}) imports {target} (floor {fb})")
+    assert not bad, "\n".join(bad)
+
+
+MAX_FUNCTION_LINES = 120
+MAX_POSITIONAL = 8
+
+
+def _compiled(node: ast.FunctionDef) -> bool:
+    """A numba kernel: plain arrays in, plain arrays out (it cannot take a dataclass)."""
+    return any("jit" in ast.unparse(d) for d in node.decorator_list)
+
+
+def test_functions_are_short_and_take_few_positional_arguments():
+    """A function does one thing (at most 120 lines past its docstring) and takes its data in few
+    positional arguments (at most 8; options are keyword-only): more is a stage that wants a
+    dataclass. Compiled kernels take plain arrays and are exempt."""
+    bad = []
+    for module, path in _modules().items():
+        for node in ast.walk(ast.parse(path.read_text())):
+            if not isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)) or _compiled(node):
+                continue
+            body = node.body
+            doc = body[0] if body and isinstance(body[0], ast.Expr) and isinstance(body[0].value, ast.Constant) \
+                and isinstance(body[0].value.value, str) else None
+            lines = node.end_lineno - node.lineno + 1 - (doc.end_lineno - doc.lineno + 1 if doc else 0)
+            positional = [a.arg for a in node.args.posonlyargs + node.args.args if a.arg not in ("self", "cls")]
+            if lines > MAX_FUNCTION_LINES or len(positional) > MAX_POSITIONAL:
+                bad.append(f"{module}.{node.name}: {lines} lines, {len(positional)} positional arguments")
+    assert not bad, "\n".join(bad)

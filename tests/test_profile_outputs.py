@@ -176,7 +176,7 @@ class Confident(SherdReport):
 
 
 def with_confidence(p, confidence):
-    sherd = Confident(**{**p.sherd.to_dict(), "up_confidence": confidence, "warnings": ()})
+    sherd = Confident(**{**p.sherd.to_dict(), "up_confidence": confidence})
     return dataclasses.replace(p, alignment=dataclasses.replace(p.alignment, sherd=sherd))
 
 

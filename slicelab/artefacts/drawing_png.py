@@ -1,13 +1,15 @@
 """The archaeological profile drawing of a vessel as a PNG (matplotlib, no pyplot).
 
 The layout is `slicelab.artefacts.layout`, the same one the SVG is drawn
-from, so the two cannot disagree.
+from, so the two cannot disagree. It lives beside the layout, in the
+artefacts floor, so that `Profile.to_png` needs nothing from the floors
+above (`slicelab.viz.profile_png` is this function).
 """
 from __future__ import annotations
 
 import numpy as np
 
-from ..artefacts.drawing import LINE, THIN, layout
+from .drawing import LINE, THIN, layout
 
 __all__ = ["profile_png"]
 

@@ -390,7 +390,7 @@ class Profile:
     def to_png(self, path, *, dpi: float = 150.0, **kwargs) -> None:
         """Write the same drawing as a PNG (1:1 when printed at `dpi`), atomically.
 
-        Takes the keywords of `to_svg`; the rendering is `slicelab.viz.profile_png`
+        Takes the keywords of `to_svg`; the rendering is `slicelab.artefacts.drawing_png.profile_png`
         (matplotlib, imported here on first use).
 
         Examples
@@ -399,7 +399,7 @@ class Profile:
         >>> from slicelab.samples import pot
         >>> profile(pot(20, 24), planes=2).to_png(os.path.join(tempfile.mkdtemp(), "pot.png"), dpi=50)
         """
-        from ..viz.profile import profile_png
+        from .drawing_png import profile_png
         profile_png(self, path, dpi=dpi, **kwargs)
 
 

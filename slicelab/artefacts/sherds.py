@@ -382,6 +382,17 @@ def sherd_stance(mesh: Mesh, sample: SurfaceSample, point, direction, noise: flo
     R, local = frame(point, direction)
     verts = local.triangles.reshape(-1, 3)
     start, width = sherd_interval(verts)
+    rim_span, rim_fraction, rim_d, base_d = _sherd_measures(local, kind, noise=noise, t_wall=t_wall, tol=tol)
+    report = SherdReport(kind, math.degrees(width), rim_span, rim_fraction, rim_d, base_d, bool(trusted),
+                         float(spread), up_from)
+    return point, direction, report
+
+
+def _sherd_measures(local: Mesh, kind: str, *, noise: float, t_wall: float, tol: float) -> tuple:
+    """A sherd's rim span (degrees), rim fraction and rim diameter (rims), or base diameter
+    (bases), in its final frame (`local`: the axis on z, up from base to rim); NaN where none."""
+    verts = local.triangles.reshape(-1, 3)
+    start, width = sherd_interval(verts)
     rim_span = rim_fraction = rim_d = base_d = math.nan
     if kind == "rim":
         from .outlines import outline
@@ -404,6 +415,4 @@ def sherd_stance(mesh: Mesh, sample: SurfaceSample, point, direction, noise: flo
         foot = np.abs(z - z_plane) <= max(2 * noise, 1e-6 * float(np.abs(verts).max()))
         if foot.sum() >= 20:
             base_d = 2 * float(np.percentile(np.hypot(verts[foot, 0], verts[foot, 1]), 99.5))
-    report = SherdReport(kind, math.degrees(width), rim_span, rim_fraction, rim_d, base_d, bool(trusted),
-                         float(spread), up_from)
-    return point, direction, report
+    return rim_span, rim_fraction, rim_d, base_d
