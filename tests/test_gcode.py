@@ -181,7 +181,7 @@ def test_pattern_covers_its_region_at_its_density_and_stays_inside(name, density
 def test_patterns_through_the_plan(tmp_path):
     mesh = cube_with_hole(12.0, 3.0, 32)
     for name in ("concentric", "gyroid", "triangles"):
-        s = PrintSettings(**FAST, infill_pattern=name)
+        s = PrintSettings(**FAST, infill_pattern=name, solid_infill_below_area=0.0)  # (65 mm2 of infill)
         pp = plan(mesh, s, workers=1)
         write_gcode(pp, tmp_path / f"{name}.gcode")
         g = read_gcode((tmp_path / f"{name}.gcode").read_text())

@@ -59,7 +59,7 @@ def parse_gcode(text):
 @pytest.fixture(scope="module")
 def cube_plan(tmp_path_factory):
     mesh = cube_with_hole(8.0, 2.0, 32)
-    settings = PrintSettings(**FAST)
+    settings = PrintSettings(**FAST, solid_infill_below_area=0.0)  # (its 36 mm2 of infill stay sparse)
     pp = plan(mesh, settings, workers=1)
     out = tmp_path_factory.mktemp("g") / "cube.gcode"
     write_gcode(pp, out)
@@ -189,7 +189,8 @@ def test_skins_are_found_by_mask_differences():
     occ[3:7, 3:7, 2:] = True
     mesh = voxels(occ)
     s = PrintSettings(pixel_size=0.1, layer_height=0.25, first_layer_height=0.25, top_layers=2,
-                      bottom_layers=2, infill_density=0.2)
+                      bottom_layers=2, infill_density=0.2, solid_infill_below_area=0.0,
+                      ensure_vertical_shell_thickness=False)  # (the tower's walls would reach down into the slab)
     pp = plan(mesh, s, workers=1)
     tower = shapely.box(3, 3, 7, 7)
     k = 6  # 1.5 - 1.75 mm: the tower stands 2 layers above
@@ -481,9 +482,9 @@ def test_bad_settings():
 
 
 def test_a_part_on_a_corner_is_lowered_until_its_first_layer_prints():
-    # A cube standing on a corner: its first three layers are triangles too small for a line, so
-    # the first extrusion would be laid in the air on the fourth. The plan lowers it 0.6 mm into
-    # the bed, says so, and prints its first layer on the bed.
+    # A cube standing on a corner: its first layers are triangles too small for a line (a gap
+    # fill's line fits the third), so the first extrusion would be laid in the air. The plan
+    # lowers it into the bed by whole layers, says so, and prints its first layer on the bed.
     from slicelab.samples import box
     from slicelab.printing import PrintSettings, plan
     a = np.ones(3) / np.sqrt(3)
@@ -492,8 +493,8 @@ def test_a_part_on_a_corner_is_lowered_until_its_first_layer_prints():
     turn = np.eye(3) + vx + vx @ vx / (1 + a[2])
     corner = slicelab.Mesh(box((0, 0, 0), (10, 10, 10)).triangles @ turn.T)
     p = plan(corner, PrintSettings(), workers=1)
-    assert p.sunk == pytest.approx(0.6)
-    assert p.offset[2] == pytest.approx(-corner.bounds[0][2] - 0.6)
+    assert 0 < p.sunk <= 0.6 + 1e-9 and p.sunk / 0.2 == pytest.approx(round(p.sunk / 0.2))
+    assert p.offset[2] == pytest.approx(-corner.bounds[0][2] - p.sunk)
     assert [w["code"] for w in p.warnings()][0] == "lowered"
     first = p.layers[0]
     assert p.z[0] == pytest.approx(0.2) and any(k not in ("skirt", "brim") for k in first.kind)

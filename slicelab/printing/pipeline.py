@@ -322,6 +322,7 @@ class LayerWindow:
         self.band = perimeter_band(s.line_width, s.n_perimeters, s.infill_overlap, s.pixel_size)
         self.masks: dict = {}
         self.rasters: dict = {}
+        self.bands: dict = {}
 
     def reach(self, k: int) -> None:
         """Masks of the layers layer k's skins read, and of none below them; the raster of layer k
@@ -330,6 +331,7 @@ class LayerWindow:
         s, masks = self.s, self.masks
         for j in [j for j in masks if j < k - s.bottom_layers - 1]:  # over the few left behind
             del masks[j]
+            self.bands.pop(j, None)
         for j in range(max(0, k - s.bottom_layers - 1), min(self.n, k + s.top_layers + 1)):  # the window
             if j not in masks:
                 masks[j] = layer_mask(self.sections[j], s.pixel_size, rule=s.rule, band=self.band)
@@ -339,23 +341,52 @@ class LayerWindow:
                                         tile=masks[k])
 
 
+    def shell_band(self, j: int):
+        """The pixels of layer j within its perimeters' width of its outline (None for an empty
+        layer): where its perimeters lie (`slicelab.printing.steps.skins.vertical_shell`), made
+        once for the layers that read it."""
+        if j not in self.bands:
+            from .grid.masks import erode_mask, reach_disc
+            m, s = self.masks.get(j), self.s
+            self.bands[j] = None if m is None else m - erode_mask(m, reach_disc(s.n_perimeters * s.line_width,
+                                                                             s.pixel_size))
+        return self.bands[j]
+
+
+def skins_step(k: int, window: LayerWindow, s: PrintSettings):
+    """The skins step of layer k: its solid skin, with its vertical shell, and its top skin
+    (`slicelab.printing.steps.skins`)."""
+    from .steps.skins import layer_skins, vertical_shell
+    shell = vertical_shell(k, window.masks, window.shell_band, s.skins) \
+        if s.ensure_vertical_shell_thickness and s.infill_density < 1 and s.n_perimeters > 0 else None
+    return layer_skins(k, window.masks, s.skins, s.line_width, shell)
+
+
 def layer_inputs(k: int, window: LayerWindow, s: PrintSettings, below_solid):
     """The skins and overhangs steps of layer k: its `LayerInputs`, its `LayerOverhangs` (None on
     the first layer) and its solid skin (the next layer's `below_solid`)."""
     from .steps.overhangs import EDGE_MARGIN, layer_overhangs
-    from .steps.skins import internal_bridge, layer_skins
+    from .steps.skins import internal_bridge
     masks, rasters, sections = window.masks, window.rasters, window.sections
-    solid, top = layer_skins(k, masks, s.skins, s.line_width)
+    solid, top = skins_step(k, window, s)
     solid_angle = (s.infill_angle + 90.0 * (k % 2)) if s.solid_angle is None else s.solid_angle
     ov = None
     if k > 0 and masks[k] is not None:  # the first layer lies on the bed
         edge_band = s.n_perimeters * s.line_width + EDGE_MARGIN if s.dont_support_bridges else None
         ov = layer_overhangs(masks[k], masks.get(k - 1), s.layer_height, threshold=s.overhang_threshold,
                              islands=rasters[k], edge_band=edge_band, angle=solid_angle,
-                             below_section=sections.get(k - 1))
+                             below_section=sections.get(k - 1), anchor=s.bridge_anchor)
     bridges = list(ov.bridges) if ov else []
+    for b in bridges:  # (a bridge's anchors over the material below are filled too: with its lines)
+        solid = b.mask if solid is None else solid | b.mask
     if s.infill_density < 1 and k > 0:  # a skin's first layer over sparse infill bridges it
-        inner = internal_bridge(solid, masks.get(k - 1), below_solid, s.line_width, solid_angle)
+        below = masks.get(k - 1)
+        if below is not None and solid is not None and s.n_perimeters > 0:
+            # Not over the perimeters below (they are solid) but for the inner half of the last
+            # one: the filling's region ends a little inside that, well within the bridge's.
+            from .grid.masks import erode_mask, reach_disc
+            below = erode_mask(below, reach_disc((s.n_perimeters - 0.5) * s.line_width, s.pixel_size))
+        inner = internal_bridge(solid, below, below_solid, s.line_width, solid_angle)
         bridges += [inner] if inner is not None else []
     return LayerInputs(k, rasters[k], solid, top, tuple(bridges), solid_angle), ov, solid
 

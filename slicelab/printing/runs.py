@@ -99,8 +99,8 @@ def run_layers(job: RunJob, state: dict | None = None) -> list:
     ([0, 1, 2], [0.2, 0.4, 0.6])
     """
     from ._reuse import Repeats
-    from .pipeline import LayerResult, LayerWindow, OverhangSummary, at_height, finish_layer, layer_inputs, plan_layer
-    from .steps.skins import layer_skins
+    from .pipeline import (LayerResult, LayerWindow, OverhangSummary, at_height, finish_layer, layer_inputs, plan_layer,
+                           skins_step)
     s, first, window = job.settings, job.first, job.window
     # Layers whose toolpaths the layer two above may take (not when the infill changes with height).
     repeats = Repeats(window, job.n, (s.bottom_layers + 1, s.top_layers), job.tolerance,
@@ -108,7 +108,7 @@ def run_layers(job: RunJob, state: dict | None = None) -> list:
     grid = LayerWindow(window, job.n, s)
     out = []
     grid.reach(first)  # (the skins of layer first - 1 read no further)
-    below_solid = layer_skins(first - 1, grid.masks, s.skins, s.line_width)[0] if first > 0 else None
+    below_solid = skins_step(first - 1, grid, s)[0] if first > 0 else None
     resume = first
     pos = None
     for k in range(first, job.stop):  # over layers

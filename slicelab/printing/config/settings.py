@@ -87,7 +87,9 @@ class Walls(_Group):
 @dataclass(frozen=True)
 class Infill(_Group):
     """Sparse filling: density (a fraction), angle (degrees), a pattern of
-    `slicelab.printing.fill.PATTERNS`, and its overlap with the perimeters (line widths)."""
+    `slicelab.printing.fill.PATTERNS`, its overlap with the perimeters (line widths), and the
+    area (mm^2) under which a region of it is filled solid (PrusaSlicer's
+    ``solid_infill_below_area``)."""
 
     infill_density: float = setting(0.2, "sparse infill density, a fraction", "", 0.0, 1.0)
     infill_angle: float = setting(45.0, "direction of the infill lines, turned 90 degrees every layer",
@@ -95,6 +97,8 @@ class Infill(_Group):
     infill_pattern: str = setting("rectilinear", "sparse infill pattern", choices=_patterns)
     infill_overlap: float = setting(0.15, "overlap of the infill with the perimeters, in line widths", "",
                                     0.0, 1.0)
+    solid_infill_below_area: float = setting(70.0, "a region of sparse infill smaller than this is filled "
+                                                   "solid", "mm2", 0.0, 1e6)
 
 
 @dataclass(frozen=True)
@@ -102,7 +106,10 @@ class Skins(_Group):
     """Solid skins: how many layers at the top and bottom, and their angle (None: the infill's,
     turned 90 degrees every layer); the overhang angle from the vertical (degrees) up to which a
     wall holds itself (`slicelab.printing.steps.overhangs`): beyond it, material over nothing is a bridge
-    when held on two sides (or on one, `Supports.dont_support_bridges`), else unheld."""
+    when held on two sides (or on one, `Supports.dont_support_bridges`), else unheld, its lines
+    running `bridge_anchor` mm onto the material below; and whether
+    the shell stays as thick as the skins where the surface slopes (PrusaSlicer's
+    ``ensure_vertical_shell_thickness``: `slicelab.printing.steps.skins.vertical_shell`)."""
 
     top_layers: int = setting(3, "solid layers under every top surface", "layers", 0, 100)
     bottom_layers: int = setting(3, "solid layers over every bottom surface", "layers", 0, 100)
@@ -110,6 +117,10 @@ class Skins(_Group):
                                         -360.0, 360.0, optional=True, kind=float)
     overhang_threshold: float = setting(50.0, "steepest wall, from the vertical, that holds itself", "degrees",
                                         0.0, 90.0, above=True, below=True)
+    bridge_anchor: float = setting(3.0, "how far a bridge's lines run onto the material below it", "mm", 0.0, 50.0)
+    ensure_vertical_shell_thickness: bool = setting(True, "solid infill where a layer within the skins' reach "
+                                                          "above or below has its perimeters, so that a sloped "
+                                                          "shell stays as thick as the skins")
 
 
 @dataclass(frozen=True)

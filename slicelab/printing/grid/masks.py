@@ -26,7 +26,7 @@ import numpy as np
 
 from ...geometry.blocks import EMPTY, FULL, BlockGrid
 
-__all__ = ["GridMask", "BlockMask", "bits_in_blocks", "dilate_mask", "near_mask", "open_mask", "pixels_in_boxes",
+__all__ = ["GridMask", "BlockMask", "bits_in_blocks", "dilate_mask", "erode_mask", "near_mask", "open_mask", "pixels_in_boxes",
            "reach_disc"]
 
 
@@ -415,6 +415,34 @@ def dilate_mask(mask, kernel: np.ndarray):
     image = grid.mosaic(bits.view(np.uint8), r, np.uint8(0), np.uint8(1))
     return _as_blocks(grid, grid.cores(cv2.dilate(image, kernel), r), mask.row0 - r, mask.col0 - r,
                       (h + 2 * r, w + 2 * r), mask.pixel_size)
+
+
+def erode_mask(mask, kernel: np.ndarray):
+    """A mask eroded by a structuring element (an odd square uint8 array, centred), in its window.
+
+    A block mask is eroded block by block, as `dilate_mask` dilates it: the
+    blocks within the kernel's reach of a block of another kind are held, so
+    its cost follows its boundary. Returns a mask of the same kind.
+
+    Examples
+    --------
+    >>> m = np.zeros((5, 5), bool); m[1:4, 1:4] = True
+    >>> cross = np.array([[0, 1, 0], [1, 1, 1], [0, 1, 0]], np.uint8)
+    >>> e = erode_mask(GridMask(m, 0, 0, 1.0), cross)
+    >>> (e.row0, e.shape, np.argwhere(e.mask).tolist())
+    (0, (5, 5), [[2, 2]])
+    """
+    import cv2
+    r = kernel.shape[0] // 2
+    h, w = mask.shape
+    if not isinstance(mask, BlockMask):
+        eroded = cv2.erode(np.pad(mask.mask, r).view(np.uint8), kernel)[r:r + h, r:r + w].view(bool)
+        return GridMask(eroded, mask.row0, mask.col0, mask.pixel_size)
+    b = mask.blocks.size
+    grid, bits = mask.blocks.widen(mask.bits, False, True, -(-r // b))
+    image = grid.mosaic(bits.view(np.uint8), r, np.uint8(0), np.uint8(1))
+    return _as_blocks(grid, grid.cores(cv2.erode(image, kernel), r), mask.row0, mask.col0, mask.shape,
+                      mask.pixel_size)
 
 
 def near_mask(mask: BlockMask, brows, bcols, kernel: np.ndarray) -> np.ndarray:

@@ -2,7 +2,8 @@
 
 The region the walls leave (`slicelab.printing.steps.perimeters.Perimeters`: its
 sparse part and the part inside the skins) is filled by the pattern of the
-infill settings (`slicelab.printing.fill.PATTERNS`), the skins by solid
+infill settings (`slicelab.printing.fill.PATTERNS`), but for its regions smaller
+than `solid_infill_below_area`, which are solid; the skins by solid
 rectilinear lines (along each bridge's own angle over a bridge), and what the
 solid lines leave uncovered (slivers where they run nearly parallel to the
 wall) by gap fill along its medial axis.
@@ -61,7 +62,8 @@ def fill_step(per: Perimeters, infill, *, line_width: float, pixel_size: float, 
     z : float
         The layer's height, for patterns that vary with it.
     top : mask, optional
-        The skin the layer above leaves exposed: solid lines mostly inside it are of kind ``"top"``.
+        The skin the layer above leaves exposed: filled apart from the rest of the skin, its lines
+        of kind ``"top"``.
     bridges : sequence of Bridge
         Regions over nothing: the solid filling inside each is laid along its angle, kind ``"bridge"``.
     solid_angle : float, optional
@@ -81,12 +83,16 @@ def fill_step(per: Perimeters, infill, *, line_width: float, pixel_size: float, 
     fill_angle = float(infill.infill_angle) + 90.0 * (layer_index % 2)
     limit = max(float(resolution), min(pixel_size, infill.infill_overlap * w))
     fills, kinds = [], []
-    if density > 0 and per.fill:
-        sparse = fill_pattern(infill.infill_pattern, _simplified(per.fill, limit), line_spacing(w, density),
+    # A region of sparse infill too small to hold its pattern (a narrow rib, a boss) is filled
+    # solid, as PrusaSlicer's solid_infill_below_area does.
+    small = [q for q in per.fill if q.area < infill.solid_infill_below_area] if density < 1 else []
+    sparse_polys = [q for q in per.fill if q.area >= infill.solid_infill_below_area] if small else per.fill
+    if density > 0 and sparse_polys:
+        sparse = fill_pattern(infill.infill_pattern, _simplified(sparse_polys, limit), line_spacing(w, density),
                               infill.infill_angle, layer_index=layer_index, z=z if np.isfinite(z) else 0.0)
         fills += sparse
         kinds += ["sparse"] * len(sparse)
-    solid_polys = per.solid
+    solid_polys = list(per.solid) + small
     for b in bridges:  # over the layer's bridges, few
         if not solid_polys:
             break
@@ -96,34 +102,25 @@ def fill_step(per: Perimeters, infill, *, line_width: float, pixel_size: float, 
             fills += lines
             kinds += ["bridge"] * len(lines)
             solid_polys = level_polygons(outside)
+    angle = fill_angle if solid_angle is None else solid_angle
+    if solid_polys and top is not None:  # the top surface: its own region, as PrusaSlicer's top infill
+        inside, outside = split_by_mask(solid_polys, top, 4 * pixel_size ** 2)
+        if inside:
+            lines = rectilinear(_simplified(level_polygons(inside), limit), w, angle)
+            fills += lines
+            kinds += ["top"] * len(lines)
+            solid_polys = level_polygons(outside)
     if solid_polys:
-        solid_paths = rectilinear(_simplified(solid_polys, limit), w,
-                                  fill_angle if solid_angle is None else solid_angle)
+        solid_paths = rectilinear(_simplified(solid_polys, limit), w, angle)
         fills += solid_paths
-        kinds += _skin_kinds(solid_paths, top)
+        kinds += ["solid"] * len(solid_paths)
     gap_fill, gap_widths = list(per.gap_fill), list(per.gap_widths)
-    if per.solid or (density >= 1 and per.fill):  # solid filling, bridges included
-        solid_region = list(per.solid) + (list(per.fill) if density >= 1 else [])
-        g, gw = _solid_gaps(per, fills, [] if density >= 1 else per.fill, solid_region)
+    if per.solid or small or (density >= 1 and per.fill):  # solid filling, bridges included
+        solid_region = list(per.solid) + small + (list(per.fill) if density >= 1 else [])
+        g, gw = _solid_gaps(per, fills, [] if density >= 1 else sparse_polys, solid_region)
         gap_fill += g
         gap_widths += gw
     return Fills(fills, kinds, gap_fill, gap_widths)
-
-
-def _skin_kinds(paths: list, top) -> list:
-    """``"top"`` for each solid path whose length lies mostly in the `top` mask, else ``"solid"``.
-
-    Each segment is judged at its midpoint (its ends lie on the region's limit).
-    """
-    if top is None or not paths:
-        return ["solid"] * len(paths)
-    owner = np.repeat(np.arange(len(paths)), [max(len(q) - 1, 0) for q in paths])
-    a = np.concatenate([q[:-1] for q in paths])
-    b = np.concatenate([q[1:] for q in paths])
-    inside, length = top.contains(0.5 * (a + b)), np.hypot(*(b - a).T)
-    on_top = np.bincount(owner, length * inside, len(paths))
-    total = np.bincount(owner, length, len(paths))
-    return ["top" if t > 0.5 * n else "solid" for t, n in zip(on_top, total)]
 
 
 def _simplified(polygons: list, tolerance: float) -> list:

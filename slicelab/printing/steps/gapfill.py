@@ -122,14 +122,18 @@ def medial_fill(grid: GridMask, uncovered: np.ndarray, w: float, min_width: floa
     return medial_fill_blocks(blocks, bits, grid.pixel_size, w, min_width)
 
 
-def uncovered_blocks(field, fill: np.ndarray, levels, w: float) -> np.ndarray:
+def uncovered_blocks(field, fill: np.ndarray, levels, w: float, rings=None) -> np.ndarray:
     """Pixels of a layer's blocks that neither the perimeters nor the filling reach (n, B, B bool).
 
     Within the perimeters' zone F < n w, a pixel is within w/2 of level
     j = floor(F / w): covered from above if F >= level j, from below only if
     level j exists within w/2, i.e. if a pixel within w/2 reaches it: one
-    dilation by a disc of {F >= level j} per level. Beyond the perimeters only
-    the filling covers: where its region was too thin to keep (a wall a
+    dilation by a disc of {F >= level j} per level. Given the `rings` found,
+    only pixels past the level that a ring passes by count: in a wall a
+    little wider than a line (a thin tube's), the level's region is narrower
+    than a pixel, and its ring breaks up or is missing although some pixels
+    pass the level; the wall is then left to gap fill. Beyond the perimeters
+    only the filling covers: where its region was too thin to keep (a wall a
     little wider than the perimeters), the middle is left to gap fill too.
 
     Parameters
@@ -141,6 +145,8 @@ def uncovered_blocks(field, fill: np.ndarray, levels, w: float) -> np.ndarray:
         The perimeters' levels.
     w : float
         Line width.
+    rings : list of (k, 2) ndarray, optional
+        The perimeters' rings found on this tile (mm).
     """
     import cv2
     values, inside = field.blocks, field.grid.bits
@@ -159,10 +165,21 @@ def uncovered_blocks(field, fill: np.ndarray, levels, w: float) -> np.ndarray:
     zone = inside & (values >= 0) & (values < top)
     level = np.minimum(np.floor(values / w), n_lv - 1)  # float32, as the thresholds below
     uncovered = (values >= top) & inside
+    found = None
+    if rings is not None:  # the pixels a ring found passes through (and those beside them)
+        from ..grid.masks import GridMask, bits_in_blocks
+        from ..grid.raster import draw_polylines
+        b = g.size
+        r0, c0 = g.row0 * b, g.col0 * b
+        drawn = draw_polylines((g.table.shape[0] * b, g.table.shape[1] * b), r0, c0, p, rings, p, closed=True)
+        near = bits_in_blocks(GridMask(drawn > 0, r0, c0, p), g.rows, g.cols, b)
+        found = g.mosaic(near.view(np.uint8), r, np.uint8(0), np.uint8(0)) * np.uint8(255)
     for j in range(n_lv):  # over levels: is level j within w/2 of its zone's pixels?
         need = np.float32(j + 0.5) * np.float32(w) - np.float32(1e-6)
-        reach = grown(cv2.compare(image, float(need), cv2.CMP_GE)).view(bool)
-        uncovered |= zone & (level == j) & ~reach
+        held = cv2.compare(image, float(need), cv2.CMP_GE)
+        if found is not None:
+            held &= found
+        uncovered |= zone & (level == j) & ~grown(held).view(bool)
     if uncovered.any():
         uncovered &= ~grown(g.mosaic(fill.view(np.uint8), r, np.uint8(0), np.uint8(1))).view(bool)
     return uncovered

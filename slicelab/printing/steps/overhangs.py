@@ -40,7 +40,8 @@ from ...geometry.polygons import loop_edges, signed_area
 from ...geometry.spatial import SegmentIndex
 from ..grid.masks import BlockMask, GridMask, dilate_mask, near_mask, reach_disc
 
-__all__ = ["Bridge", "EDGE_MARGIN", "LayerOverhangs", "layer_overhangs", "mark_overhangs", "PERIMETER_KINDS"]
+__all__ = ["Bridge", "EDGE_MARGIN", "LayerOverhangs", "layer_overhangs", "mark_overhangs", "shortest_span",
+           "PERIMETER_KINDS"]
 
 #: The kinds of rows whose stretches over nothing are overhang perimeters.
 PERIMETER_KINDS = ("external", "hole", "internal")
@@ -154,7 +155,7 @@ def _hanging_window(below, diff, kernel: np.ndarray, hangs=None):
 
 def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0, islands=None,
                     min_anchor: float | None = None, edge_band: float | None = None,
-                    angle: float = 0.0, below_section=None) -> LayerOverhangs:
+                    angle: float = 0.0, below_section=None, anchor: float = 0.0) -> LayerOverhangs:
     """Bridges, unheld overhang and mid-air islands of a layer.
 
     Parameters
@@ -184,6 +185,9 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
         The layer below's section: a pixel the masks find hanging is then checked against it, its
         centre's exact distance to the section's boundary against the reach (the masks put that
         boundary half a pixel beyond the last pixel below, give or take half a pixel).
+    anchor : float, default 0
+        How far (mm) each bridge reaches onto the material below it, within the layer: its lines
+        are anchored there (PrusaSlicer's bridges run some 3 mm onto their supports).
 
     Returns
     -------
@@ -230,15 +234,17 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
     hangs = None
     if below_section is not None and below is not None:  # near the threshold, the section's exact distances decide
 
-        def hangs(xy):  # (called only on layers with pixels found hanging: the index is made then)
+        def exact(xy):  # (called only on layers with pixels found hanging: the index is made then)
             loops = [lp for lp in below_section.loops if len(lp) >= 3]
             d = SegmentIndex(loop_edges(loops), 4 * p).within(xy, reach + 2 * p) if loops else None
             return None if d is None else d > reach
+        hangs = exact
 
     window, refuted = (_crop(diff), None) if below is None else _hanging_window(below, diff, reach_disc(reach, p, 0.5 * p), hangs)
     if window is None:
         return LayerOverhangs(mid_air=mid_air)
-    margin = int(math.ceil(reach / p)) + 3
+    hold = int(math.ceil(anchor / p))
+    margin = int(math.ceil(reach / p)) + 3 + hold
     row0, col0 = window[0] - margin, window[1] - margin
     shape = (window[2][0] + 2 * margin, window[2][1] + 2 * margin)
     free = diff.window(row0, col0, shape)
@@ -255,20 +261,11 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
         if free.any() else 0.0
     count, labels, stats, _ = cv2.connectedComponentsWithStats(hanging.astype(np.uint8), connectivity=8)
     min_px = 4 if min_anchor is None else max(1, int(min_anchor / (p * p)))
-    grow = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * margin + 1, 2 * margin + 1))
-    ring = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (5, 5))
+    grow = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * (margin - hold) + 1, 2 * (margin - hold) + 1))
+    win = _Hanging(mine, free, held, mine.window(row0, col0, shape), dist, row0=row0, col0=col0, p=p, hold=hold,
+                   edge_band=edge_band)
     bridges, area, worst, where, outlines = [], 0.0, 0, None, []
     h, w = shape
-    edge = None
-
-    def near_edge():  # the window's pixels within the band of the layer's outline, made on first need
-        nonlocal edge
-        if edge is None:  # (distances to the outline, from a window wide enough to see it)
-            b = int(math.ceil(edge_band / p)) + 1
-            inside = mine.window(row0 - b, col0 - b, (h + 2 * b, w + 2 * b)).astype(np.uint8)
-            edge = cv2.distanceTransform(inside, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)[b:b + h, b:b + w] * p \
-                <= edge_band + 0.5 * p
-        return edge
     for k in range(1, count):  # over the hanging parts, few
         if stats[k, cv2.CC_STAT_AREA] < min_px:
             continue
@@ -278,31 +275,11 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
         xa, xb = max(0, x - margin - 3), min(w, x + stats[k, cv2.CC_STAT_WIDTH] + margin + 3)
         part = labels[ya:yb, xa:xb] == k
         region = cv2.dilate(part.astype(np.uint8), grow).astype(bool) & free[ya:yb, xa:xb]
-        anchors = cv2.dilate(region.astype(np.uint8), ring).astype(bool) & held[ya:yb, xa:xb]
-        n_a, a_labels, a_stats, a_centres = cv2.connectedComponentsWithStats(anchors.astype(np.uint8),
-                                                                            connectivity=8)
-        big = [j for j in range(1, n_a) if a_stats[j, cv2.CC_STAT_AREA] >= min_px]
-        if len(big) >= 2:
-            big.sort(key=lambda j: -a_stats[j, cv2.CC_STAT_AREA])
-            (x0, y0), (x1, y1) = a_centres[big[0]], a_centres[big[1]]
-            angle = math.degrees(math.atan2(y1 - y0, x1 - x0))
-            bridges.append(Bridge(GridMask(region, row0 + ya, col0 + xa, p), angle,
-                                  math.hypot(x1 - x0, y1 - y0) * p))
+        bridge, part, footprint = win.judge(part, region, (ya, yb, xa, xb), min_px, angle)
+        if bridge is not None:
+            bridges.append(bridge)
+        if footprint is None:
             continue
-        band = near_edge()[ya:yb, xa:xb] & part if big and edge_band is not None else None
-        # Held on one side: bridged out from it, all but the edge band (a part within the band,
-        # a sliver along a leaning wall, has nothing to bridge and stays unheld whole).
-        if band is not None and np.count_nonzero(part) - np.count_nonzero(band) >= min_px:
-            rr, cc = np.nonzero(part)
-            (xa0, ya0), (xp, yp) = a_centres[big[0]], (cc.mean(), rr.mean())
-            out = math.degrees(math.atan2(yp - ya0, xp - xa0)) if math.hypot(xp - xa0, yp - ya0) > 2 else angle
-            bridges.append(Bridge(GridMask(region, row0 + ya, col0 + xa, p), out,
-                                  float(dist[ya:yb, xa:xb][part].max())))
-            part = footprint = band
-            if not part.any():
-                continue
-        else:  # held nowhere: supports hold all of its step over nothing, not only what hangs beyond the reach
-            footprint = region
         px = int(np.count_nonzero(part))
         area += px * p * p
         # Its outline and holes (an edge band is a ring), turned as `LayerOverhangs.unheld` says.
@@ -316,6 +293,109 @@ def layer_overhangs(mine, below, layer_height: float, *, threshold: float = 50.0
             i = len(rr) // 2
             worst, where = px, np.array([(col0 + xa + cc[i]) * p, (row0 + ya + rr[i]) * p])
     return LayerOverhangs(tuple(bridges), area, mid_air, where, tuple(outlines), steepest)
+
+
+class _Hanging:
+    """A window of a layer around what it lays over nothing: the arrays each hanging part is
+    judged on (`_Hanging.judge`), with world offset (`row0`, `col0`).
+
+    `free`: the layer's pixels not over the layer below; `held`: the layer below's; `mine`: the
+    layer's; `dist`: the distance (mm) to the layer below; `hold`: a bridge's anchor (pixels);
+    `edge_band`: see `layer_overhangs`.
+    """
+
+    def __init__(self, layer, free, held, mine, dist, *, row0: int, col0: int, p: float, hold: int, edge_band):
+        self.layer, self.free, self.held, self.mine, self.dist = layer, free, held, mine, dist
+        self.row0, self.col0, self.p, self.hold, self.edge_band = row0, col0, p, hold, edge_band
+        self._edge = None
+
+    def near_edge(self) -> np.ndarray:
+        """The window's pixels within the edge band of the layer's outline, made on first need."""
+        import cv2
+        if self._edge is None:  # (distances to the outline, from a window wide enough to see it)
+            p, (h, w) = self.p, self.free.shape
+            b = int(math.ceil(self.edge_band / p)) + 1
+            inside = self.layer.window(self.row0 - b, self.col0 - b, (h + 2 * b, w + 2 * b)).astype(np.uint8)
+            self._edge = cv2.distanceTransform(inside, cv2.DIST_L2, cv2.DIST_MASK_PRECISE)[b:b + h, b:b + w] * p \
+                <= self.edge_band + 0.5 * p
+        return self._edge
+
+    def bridge(self, region: np.ndarray, box, angle: float, span: float) -> Bridge:
+        """A bridge over `region` (at `box` in the window), its lines running `hold` pixels onto
+        the material below, within the layer."""
+        import cv2
+        ya, yb, xa, xb = box
+        if self.hold:
+            disc = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (2 * self.hold + 1, 2 * self.hold + 1))
+            onto = cv2.dilate(region.astype(np.uint8), disc).astype(bool) & self.held[ya:yb, xa:xb] \
+                & self.mine[ya:yb, xa:xb]
+            region = region | onto
+        return Bridge(GridMask(region, self.row0 + ya, self.col0 + xa, self.p), float(angle), float(span))
+
+    def judge(self, part: np.ndarray, region: np.ndarray, box, min_px: int, angle: float):
+        """What a hanging part is: ``(bridge or None, the part left unheld, its footprint or None)``.
+
+        Held on two sides, a bridge from one anchor towards the other; held all round (a roof over
+        a hollow), a bridge across its shortest span; held on one side and given an edge band,
+        bridged out from it but for the band, which stays unheld; else unheld whole, with all of
+        its step over nothing (what supports hold).
+        """
+        import cv2
+        ya, yb, xa, xb = box
+        ring = cv2.getStructuringElement(cv2.MORPH_ELLIPSE, (5, 5))
+        anchors = cv2.dilate(region.astype(np.uint8), ring).astype(bool) & self.held[ya:yb, xa:xb]
+        n_a, _, a_stats, a_centres = cv2.connectedComponentsWithStats(anchors.astype(np.uint8), connectivity=8)
+        big = sorted((j for j in range(1, n_a) if a_stats[j, cv2.CC_STAT_AREA] >= min_px),
+                     key=lambda j: -a_stats[j, cv2.CC_STAT_AREA])
+        if len(big) >= 2:
+            (x0, y0), (x1, y1) = a_centres[big[0]], a_centres[big[1]]
+            return self.bridge(region, box, math.degrees(math.atan2(y1 - y0, x1 - x0)),
+                               math.hypot(x1 - x0, y1 - y0) * self.p), part, None
+        if big and not (cv2.dilate(region.astype(np.uint8), ring).astype(bool) & ~self.mine[ya:yb, xa:xb]).any():
+            across, span = shortest_span(region)  # (held all round)
+            return self.bridge(region, box, across, span * self.p), part, None
+        band = self.near_edge()[ya:yb, xa:xb] & part if big and self.edge_band is not None else None
+        # Held on one side: bridged out from it, all but the edge band (a part within the band,
+        # a sliver along a leaning wall, has nothing to bridge and stays unheld whole).
+        if band is not None and np.count_nonzero(part) - np.count_nonzero(band) >= min_px:
+            rr, cc = np.nonzero(part)
+            (xa0, ya0), (xp, yp) = a_centres[big[0]], (cc.mean(), rr.mean())
+            out = math.degrees(math.atan2(yp - ya0, xp - xa0)) if math.hypot(xp - xa0, yp - ya0) > 2 else angle
+            bridge = self.bridge(region, box, out, float(self.dist[ya:yb, xa:xb][part].max()))
+            return bridge, band, (band if band.any() else None)
+        return None, part, region  # held nowhere: supports hold all of its step over nothing
+
+
+def shortest_span(region: np.ndarray, step: float = 3.0) -> tuple[float, float]:
+    """The direction (degrees) of the shortest lines across a region, and their length (pixels).
+
+    Lines laid at an angle cross the region in chords; the longest of them (the mean of the
+    longest tenth, so that a stray pixel does not decide) is the span a strand must bridge. The
+    angle of the shortest such span, tried every `step` degrees, is the bridge's (PrusaSlicer's
+    bridge detector likewise prefers the direction of the shortest anchored lines). Each line
+    is a bin, a pixel wide, of the coordinate across it; its pixels measure its chord.
+
+    Examples
+    --------
+    >>> roof = np.zeros((40, 100), bool); roof[5:35, 10:90] = True    # 80 x 30 pixels
+    >>> angle, span = shortest_span(roof)
+    >>> angle % 180, round(span)                                     # across the 30 pixels
+    (90.0, 30)
+    """
+    rows, cols = np.nonzero(region)
+    if len(rows) == 0:
+        return 0.0, 0.0
+    angles = np.arange(0.0, 180.0, step)
+    t = np.radians(angles)
+    across = np.rint(-np.sin(t)[:, None] * cols[None] + np.cos(t)[:, None] * rows[None]).astype(np.int64)
+    across -= across.min(axis=1, keepdims=True)
+    spans = []
+    for a in across:  # over the angles tried, few
+        chords = np.bincount(a)
+        chords = chords[chords > 0]
+        spans.append(chords[chords >= np.percentile(chords, 90)].mean())
+    best = int(np.argmin(spans))
+    return float(angles[best]), float(spans[best])
 
 
 def _over_exactly(points, over, below, section, rule: str) -> np.ndarray:

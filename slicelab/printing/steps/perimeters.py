@@ -436,10 +436,11 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
         # Only perimeter levels are refined: the filling limit needs no sub-pixel accuracy.
         fld = distance_field(tile, index, levels, depth=depth)
         fields.append(fld)
-        first = []
+        first, mine = [], []
         for k, level in enumerate(levels):  # over levels
             found = level_rings(fld, level, tolerance=tol, index=index)
             rings_by_level[k] += found
+            mine += found
             first = found if k == 0 else first
         # The filling's region: its level set where the opening keeps it, the opening's edge
         # elsewhere (the field lowered below the level there), simplified to half a pixel (at
@@ -451,7 +452,7 @@ def layer_perimeters(layer, line_width: float = 0.4, n_perimeters: int = 2, *, p
         if solid is not None:
             total, held = _solid_share(fld, fill_mask, solid)
             fill_px, solid_px = fill_px + total, solid_px + held
-        unc = uncovered_blocks(fld, fill_mask, levels, w)
+        unc = uncovered_blocks(fld, fill_mask, levels, w, mine)
         g, gw = medial_fill_blocks(tile.blocks, unc, p, w, min_gap)
         gaps += g
         gap_w += gw
