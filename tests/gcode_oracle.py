@@ -93,8 +93,9 @@ def _layer_gcode(k: int, lp, h: float, s, off, moves: "_Moves", pos, factor: flo
     d = np.diff(xy, axis=0)
     seg = np.hypot(d[:, 0], d[:, 1])
     wm = 0.5 * (width[:-1] + width[1:])
-    flow = np.repeat([k_e * s.bridge_flow_ratio if kind == "bridge" else k_e for kind in kinds], counts)[:-1]
-    e = wm * h * seg * flow
+    # A bridge is laid as a round strand of the nozzle's bore (times the bridge flow ratio).
+    bridge = np.repeat([kind == "bridge" for kind in kinds], counts)[:-1]
+    e = np.where(bridge, np.pi * s.nozzle_diameter ** 2 / 4 * s.bridge_flow_ratio, wm * h) * seg * k_e
     # Each path's mean width (its own segments only: those joining two paths count nothing).
     inner = wm.copy()
     inner[ends[:-1] - 1] = 0.0

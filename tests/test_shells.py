@@ -164,3 +164,30 @@ def test_gcode_of_a_dome_reads_back_with_its_top_solid_infill(dome_plans, tmp_pa
     write_gcode(pp, tmp_path / "dome.gcode")
     text = (tmp_path / "dome.gcode").read_text()
     assert ";TYPE:Top solid infill" in text and ";TYPE:Solid infill" in text
+
+
+@pytest.mark.parametrize("nozzle, ratio", [(0.4, 1.0), (0.6, 0.8)])
+def test_bridges_are_laid_as_round_strands_of_the_nozzles_bore(tmp_path, nozzle, ratio):
+    # Read back from disk: each bridge move's filament per mm is a round strand's section
+    # (pi d^2 / 4, times the bridge flow ratio) over the filament's, whatever the layer height and
+    # line width; solid infill's is width x height.
+    s = PrintSettings(skirt_loops=0, nozzle_diameter=nozzle, bridge_flow_ratio=ratio)
+    pp = plan(_deck(), s, workers=1)
+    write_gcode(pp, tmp_path / "deck.gcode")
+    kind, x, y, per_mm = None, 0.0, 0.0, {"Bridge infill": [], "Solid infill": []}
+    for line in (tmp_path / "deck.gcode").read_text().splitlines():
+        if line.startswith(";TYPE:"):
+            kind = line[6:]
+        elif line.startswith("G1 X") and " E" in line:
+            w = dict((t[0], float(t[1:])) for t in line.split(";")[0].split()[1:])
+            d = np.hypot(w["X"] - x, w["Y"] - y)
+            if kind in per_mm and d > 2.0:  # long moves: the 5-decimal rounding of E is nothing
+                per_mm[kind].append(w["E"] / d)
+            x, y = w["X"], w["Y"]
+        elif line.startswith(("G0 X", "G1 X")):
+            w = dict((t[0], float(t[1:])) for t in line.split(";")[0].split()[1:])
+            x, y = w.get("X", x), w.get("Y", y)
+    strand = np.pi * nozzle ** 2 / 4 * ratio * s.extrusion_multiplier / s.filament_area
+    assert len(per_mm["Bridge infill"]) > 10
+    np.testing.assert_allclose(per_mm["Bridge infill"], strand, rtol=2e-3)
+    assert pp.extruded_volume > 0 and abs(np.median(per_mm["Solid infill"]) - strand) > 0.05 * strand

@@ -84,7 +84,7 @@ class WriterSettings:
     def of(cls, s) -> "WriterSettings":
         speeds = kind_speeds(s)
         travel = f"{60 * s.travel_speed:.0f}"
-        numbers = np.array([0.0, 0.0, s.extrusion_multiplier / s.filament_area, float(s.bridge_flow_ratio), 0.0, 1.0,
+        numbers = np.array([0.0, 0.0, s.extrusion_multiplier / s.filament_area, s.bridge_strand, 0.0, 1.0,
                             float(s.small_perimeter_speed), float(s.min_print_speed), float(s.first_layer_speed),
                             round(60 * s.travel_speed) / 60, round(60 * s.retraction_speed) / 60,
                             float(s.retraction_length), float(s.z_lift), float(s.retract_min_travel), SMALL_PERIMETER,

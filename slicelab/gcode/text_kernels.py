@@ -316,7 +316,8 @@ def layer_moves(xy, counts, kind, width, numbers, speeds, perimeter, bridge, wor
     width : (n,) float64 ndarray
         Line width at each point.
     numbers : (37,) float64 ndarray
-        z, layer height, filament fed per mm^3 of extrusion, bridge flow ratio, first layer
+        z, layer height, filament fed per mm^3 of extrusion, a bridge strand's cross-section
+        (mm^2, `slicelab.printing.PrintSettings.bridge_strand`), first layer
         (1 or 0), speed factor, small perimeter speed, minimum print speed, first layer
         speed, travel feed and retraction feed (mm/s, as written), retraction length, z
         lift, shortest travel that retracts, small perimeter length; then the machine's
@@ -327,7 +328,7 @@ def layer_moves(xy, counts, kind, width, numbers, speeds, perimeter, bridge, wor
     perimeter : (k,) bool ndarray
         Kinds slowed to the small perimeter speed when closed and short.
     bridge : int
-        The bridge's kind (its paths flow less and set the fan full), -1 if none.
+        The bridge's kind (its paths are laid as round strands and set the fan full), -1 if none.
     words, word_at : uint8 ndarray, (k + 1,) int64 ndarray
         Kind i's ``;TYPE:`` line is ``words[word_at[i]:word_at[i + 1]]``.
     travel_f, retract_f : uint8 ndarrays
@@ -349,7 +350,7 @@ def layer_moves(xy, counts, kind, width, numbers, speeds, perimeter, bridge, wor
     filament, seconds : float
         As the Python writer sums them (`stream_seconds`).
     """
-    z, h, k_e, bridge_ratio = numbers[0], numbers[1], numbers[2], numbers[3]
+    z, h, k_e, strand = numbers[0], numbers[1], numbers[2], numbers[3]
     first, factor, small_speed, min_speed, first_speed = numbers[4] > 0, numbers[5], numbers[6], numbers[7], numbers[8]
     travel_feed, retract_feed, retract, lift, min_travel = numbers[9], numbers[10], numbers[11], numbers[12], numbers[13]
     small_length = numbers[14]
@@ -382,8 +383,8 @@ def layer_moves(xy, counts, kind, width, numbers, speeds, perimeter, bridge, wor
         seg[j] = np.hypot(xy[j + 1, 0] - xy[j, 0], xy[j + 1, 1] - xy[j, 1])
         wm = 0.5 * (width[j] + width[j + 1])
         inner[j] = 0.0 if j == begins[path] + counts[path] - 1 else wm  # one joining two paths counts nothing
-        flow = k_e * bridge_ratio if kind[path] == bridge else k_e
-        e[j] = wm * h * seg[j] * flow
+        # A bridge's strand hangs round, not flattened by a layer below (`PrintSettings.bridge_strand`).
+        e[j] = (strand if kind[path] == bridge else wm * h) * seg[j] * k_e
         e5[j] = np.rint(e[j] * 100000.0) / 100000.0
     rows = np.empty((n + 5 * p + 1, 5))  # every move: x, y, z, filament, feed
     rows[0, 0], rows[0, 1], rows[0, 2], rows[0, 3], rows[0, 4] = start[0], start[1], z, 0.0, travel_feed

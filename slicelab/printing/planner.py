@@ -167,9 +167,17 @@ class PrintPlan:
 
     @cached_property
     def extruded_volume(self) -> float:
-        """Volume of all extrusions, width x layer height x length (mm^3); summed once (the plan's
-        layers do not change)."""
-        return float(sum(lp.extruded_area() * h for lp, h in zip(self.layers, self.heights)))
+        """Volume of all extrusions (mm^3): width x layer height x length, but a bridge's round
+        strand (`PrintSettings.bridge_strand`) x length; summed once (the plan's layers do not change)."""
+        strand = self.settings.bridge_strand
+        total = 0.0
+        for lp, h in zip(self.layers, self.heights):  # over layers
+            total += lp.extruded_area() * h
+            for _, q, w in lp.rows(("bridge",)):  # bridges, a few rows: their strand, not w x h
+                seg = np.hypot(*np.diff(q, axis=0).T)
+                wm = w if np.ndim(w) == 0 else 0.5 * (np.asarray(w)[:-1] + np.asarray(w)[1:])
+                total += float(np.sum(seg * (strand - wm * h)))
+        return float(total)
 
     @cached_property
     def print_length(self) -> float:
@@ -283,8 +291,9 @@ def _plan(mesh: Mesh, s: PrintSettings, sunk: float, *, workers, progress, layer
     offset = np.array([s.centre[0] - (lo[0] + hi[0]) / 2, s.centre[1] - (lo[1] + hi[1]) / 2, -lo[2]])
     extent = footprint_extent(lo[:2], hi[:2], sections[0], s)
     # Seams: one pass up the whole part before any layer is planned (`slicelab.printing.seams`).
-    from .seams import seam_targets
-    seams = seam_targets(sections) if s.seam_position == "aligned" else [None] * len(sections)
+    from .seams import random_targets, seam_targets
+    seams = seam_targets(sections) if s.seam_position == "aligned" else random_targets(sections) \
+        if s.seam_position == "random" else [None] * len(sections)
     # Layers of a prism differ by the float32 rounding of the file's coordinates (walls lean by it).
     from ..mesh.repairs import default_tolerance
     # Supports are added to the layers afterwards: the workers then neither format nor draw them.

@@ -77,10 +77,11 @@ class Extrusion(_Group):
 @dataclass(frozen=True)
 class Walls(_Group):
     """Perimeter loops: where each starts (`seam_position`: ``"aligned"`` with the layer below,
-    ``"rear"`` or ``"nearest"`` the nozzle) and whether an island's outer perimeter goes first
+    ``"rear"``, ``"nearest"`` the nozzle, or ``"random"`` along the loop, seeded by the layer) and whether an island's outer perimeter goes first
     (by default the innermost goes first and the outer one last)."""
 
-    seam_position: str = setting("aligned", "where perimeter loops start", choices=("aligned", "rear", "nearest"))
+    seam_position: str = setting("aligned", "where perimeter loops start",
+                                 choices=("aligned", "rear", "nearest", "random"))
     external_perimeters_first: bool = setting(False, "print each island's outer perimeter before the inner ones")
 
 
@@ -426,6 +427,26 @@ class PrintSettings:
     def filament_area(self) -> float:
         """Cross-section of the filament (mm^2)."""
         return math.pi * (self.filament_diameter / 2) ** 2
+
+    @property
+    def bridge_strand(self) -> float:
+        """Cross-section (mm^2) of a bridge's strand: round, of the nozzle's diameter, times
+        `bridge_flow_ratio`, as PrusaSlicer lays it. A strand over nothing is not flattened by a
+        layer below, so its section is the nozzle's bore whatever the layer height and line width.
+
+        References
+        ----------
+        .. [1] PrusaSlicer, ``src/libslic3r/Flow.cpp``: ``Flow::bridging_flow``, a round extrusion
+           of diameter ``nozzle_diameter * sqrt(bridge_flow_ratio)``.
+
+        Examples
+        --------
+        >>> round(PrintSettings(nozzle_diameter=0.4).bridge_strand, 4)   # pi 0.4^2 / 4
+        0.1257
+        >>> round(PrintSettings(nozzle_diameter=0.4, bridge_flow_ratio=0.8).bridge_strand, 4)
+        0.1005
+        """
+        return math.pi * self.nozzle_diameter ** 2 / 4 * self.bridge_flow_ratio
 
 
 def sized_settings() -> tuple:
