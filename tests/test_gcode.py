@@ -411,7 +411,7 @@ def test_cli_slice_with_the_new_settings(tmp_path, data_dir):
         assert r.returncode == 2 and r.stderr.count("\n") == 1 and flag in r.stderr, r.stderr
 
 
-@pytest.mark.parametrize("seam", ["rear", "aligned", "nearest"])
+@pytest.mark.parametrize("seam", ["rear", "aligned", "nearest", "random"])
 def test_seams(seam):
     from slicelab.samples import sphere
     pp = plan(sphere(10.0, 24, 48), PrintSettings(**FAST, seam_position=seam), workers=1)
@@ -429,6 +429,22 @@ def test_seams(seam):
         # Each seam is the vertex nearest the one below: a seam line up the sphere, a step at most
         # about the distance between the sphere's vertices on the layer.
         assert np.median(step) < 1.0 and starts[:, 1].mean() > 5.0
+    if seam == "random":
+        # Spread round the sphere: seams point every way from its axis (the mean of their unit
+        # directions is short), each on its loop, none carried up from the layer below.
+        u = starts - starts.mean(axis=0)
+        u /= np.linalg.norm(u, axis=1, keepdims=True)
+        assert np.linalg.norm(u.mean(axis=0)) < 0.3 and np.median(step) > 3.0
+
+
+def test_random_seams_are_the_same_in_any_order_and_by_any_number_of_workers():
+    # Drawn per layer from a seed of the layer's number, not from a stream the runs share.
+    from slicelab.samples import sphere
+    s = PrintSettings(**FAST, seam_position="random")
+    one, two = plan(sphere(10.0, 24, 48), s, workers=1), plan(sphere(10.0, 24, 48), s, workers=2)
+    for a, b in zip(one.layers, two.layers, strict=True):
+        for (ka, qa, _), (kb, qb, _) in zip(a.rows({"external"}), b.rows({"external"}), strict=True):
+            np.testing.assert_array_equal(qa, qb)
 
 
 def test_hole_walls_are_their_own_kind_printed_as_external_perimeters(cube):

@@ -131,7 +131,8 @@ def plan_layer(section, settings: PrintSettings | None = None, inputs: LayerInpu
     start : (2,) array_like, optional
         Nozzle position before the layer (default: the layer's lower-left corner).
     seam : (2,) array_like, optional
-        With aligned seams, each loop starts at its vertex nearest this point.
+        With aligned or random seams (`slicelab.printing.seams`), each loop starts at its point
+        nearest these points (one per loop of the section).
 
     Returns
     -------

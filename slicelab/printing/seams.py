@@ -13,6 +13,9 @@ whole part, a seam point on every loop of the section:
 - a loop that starts (the first layer, an island or a hole that appears)
   takes its sharpest concave corner, or, with none, its rearmost vertex.
 
+With random seams (``seam_position = random``) `random_targets` draws each
+loop's seam at random along its length instead, seeded by the layer's number.
+
 The planner passes each layer its targets (`plan_layer`'s `seam`): each
 perimeter loop then starts at its vertex nearest them. As the pass runs over
 the sections of the whole part before the layers are planned, in any order
@@ -31,7 +34,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["seam_targets", "concave_corners", "SNAP", "REACH"]
+__all__ = ["seam_targets", "random_targets", "concave_corners", "SNAP", "REACH"]
 
 #: A concave corner within this distance (mm) of the seam carried up takes the seam.
 SNAP = 1.0
@@ -124,4 +127,51 @@ def seam_targets(sections, *, reach: float = REACH, snap: float = SNAP) -> list:
             pts.append(_start(ring) if p is None else p)
         below = np.array(pts)
         out.append(below)
+    return out
+
+
+def random_targets(sections, *, seed: int = 0) -> list:
+    """A seam point on every loop of every layer, drawn at random along the loop's length
+    (PrusaSlicer's ``seam_position = random``): the blobs of the seams are spread over the
+    surface instead of lined up. The draw is seeded by the layer's number, so every run, in any
+    order and by any number of workers, gives the same seams.
+
+    Parameters
+    ----------
+    sections : sequence of Section
+        The layers, bottom to top.
+    seed : int
+        Another seed gives other seams.
+
+    Returns
+    -------
+    list of (m, 2) ndarray or None
+        As `seam_targets`: a point per loop (on the loop), None for an empty section.
+
+    Examples
+    --------
+    >>> from types import SimpleNamespace
+    >>> sq = np.array([[0, 0], [4, 0], [4, 4], [0, 4]], float)
+    >>> t = random_targets([SimpleNamespace(loops=[sq])] * 3)
+    >>> [p.shape for p in t], len({tuple(p[0]) for p in t})     # one point a layer, each elsewhere
+    ([(1, 2), (1, 2), (1, 2)], 3)
+    >>> all(np.isclose(np.abs(p[0] - 2).max(), 2) for p in t)  # on the square's edges
+    True
+    """
+    out = []
+    for k, sec in enumerate(sections):  # over layers: each its own draw
+        rings = [np.asarray(r, np.float64).reshape(-1, 2) for r in getattr(sec, "loops", []) if len(r) >= 3]
+        if not rings:
+            out.append(None)
+            continue
+        u = np.random.default_rng([seed, k]).random(len(rings))
+        pts = []
+        for ring, f in zip(rings, u):  # over the section's loops, a few
+            edges = np.roll(ring, -1, axis=0) - ring
+            cum = np.concatenate(([0.0], np.cumsum(np.hypot(*edges.T))))
+            at = f * cum[-1]
+            e = min(int(np.searchsorted(cum, at, side="right")) - 1, len(ring) - 1)
+            t = (at - cum[e]) / max(cum[e + 1] - cum[e], 1e-300)
+            pts.append(ring[e] + t * edges[e])
+        out.append(np.array(pts))
     return out

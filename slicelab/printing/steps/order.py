@@ -20,16 +20,17 @@ from ..seams import SNAP, concave_corners
 
 __all__ = ["SEAMS", "order_step"]
 
-#: Where a loop starts (its seam): the vertex nearest the nozzle, the rearmost (largest y), or
-#: the one nearest the seam of the layer below (`order_step`'s `seam_point`; rearmost without one).
-SEAMS = ("nearest", "rear", "aligned")
+#: Where a loop starts (its seam): the vertex nearest the nozzle, the rearmost (largest y), the
+#: one nearest the seam of the layer below, or a point drawn at random (for the last two, the
+#: layer's `order_step` `seam_point`, found by `slicelab.printing.seams`; rearmost without one).
+SEAMS = ("nearest", "rear", "aligned", "random")
 
 
 def _closed_from(ring: np.ndarray, pos: np.ndarray, seam: str = "nearest", seam_point=None) -> np.ndarray:
     """The ring as a closed polyline starting at its seam vertex (`SEAMS`)."""
-    if seam == "aligned" and seam_point is not None:
+    if seam in ("aligned", "random") and seam_point is not None:
         ring, k = _with_seam(ring, np.asarray(seam_point, np.float64).reshape(-1, 2))
-    elif seam in ("rear", "aligned"):
+    elif seam in ("rear", "aligned", "random"):
         back = np.flatnonzero(ring[:, 1] >= ring[:, 1].max() - 1e-9)
         k = int(back[np.argmin(ring[back, 0])])  # the rearmost, then leftmost
     else:
@@ -141,11 +142,11 @@ def order_step(section, per, fills, *, line_width: float, seam: str = "nearest",
     fills : Fills
         The filling and gap fill (`slicelab.printing.steps.filling.fill_step`).
     line_width : float
-    seam : {"nearest", "rear", "aligned"}
+    seam : {"nearest", "rear", "aligned", "random"}
         Where each perimeter loop starts (`SEAMS`).
     seam_point : (2,) or (m, 2) array_like, optional
-        For ``seam="aligned"``: each loop starts at its vertex nearest these points (the layer's
-        seam points, `slicelab.printing.seams.seam_targets`).
+        For ``seam="aligned"`` or ``"random"``: each loop starts at its point nearest these points
+        (the layer's seam points, `slicelab.printing.seams.seam_targets` or `random_targets`).
     external_first : bool
         Print each island's outer perimeter (and its holes' walls) before the inner ones.
     start : (2,) array_like, optional
