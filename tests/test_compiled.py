@@ -73,7 +73,8 @@ def test_arguments_of_other_types_go_to_numba(restore_kernels):
     assert np.array_equal(douglas_peucker(pts, keep.copy(), 0.5), expected)
 
 
-def test_a_module_built_from_other_sources_is_not_used(monkeypatch, restore_kernels):
+def test_a_module_built_from_other_sources_is_not_used(restore_kernels, monkeypatch):
+    # (restore_kernels first: torn down last, once the hash is the real one again)
     monkeypatch.setattr(compiled, "_sources_hash", lambda modules: "another version of the kernels")
     state = compiled.select()
     assert state == ("stale (built from other sources)" if BUILT else "not built")
