@@ -96,3 +96,18 @@ def test_cut_of_a_self_intersecting_part_is_closed_on_disk_and_names_the_loop(tm
     assert "crosses itself near (12, 4.8)" in r.stdout + r.stderr
     for name in ("rear", "front"):
         assert slicelab.check(slicelab.load(tmp_path / "c" / f"{name}.stl")).watertight
+
+
+def test_a_fin_inside_a_part_is_refused_in_one_line_naming_how_to_remove_it(tmp_path):
+    # A third facet on an edge of a closed cube (a fin into the part) is no hole to fill and no
+    # winding to mend: the refusal says so and names the fix, writing nothing.
+    import numpy as np
+    cube = box((0, 0, 0), (20, 20, 20))
+    a, b = cube.triangles[0][0], cube.triangles[0][1]
+    fin = np.array([[a, b, [10.0, 10.0, 10.0]]])
+    slicelab.save(slicelab.Mesh(np.concatenate([cube.triangles, fin])), tmp_path / "fin.stl")
+    out = tmp_path / "fin.gcode"
+    r = subprocess.run([sys.executable, "-m", "slicelab", "slice", str(tmp_path / "fin.stl"), "-o", str(out)],
+                       capture_output=True, text=True, timeout=120)
+    assert r.returncode == 2 and len(r.stderr.strip().splitlines()) == 1, r.stderr
+    assert "non-manifold" in r.stderr and "mesh editor" in r.stderr and not out.exists()

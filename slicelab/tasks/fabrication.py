@@ -314,7 +314,10 @@ def _slice_feasible(inp, p):
     why = _open_input(inp, p)
     if why and not inp.check.closed_by_winding:
         message = why[0]["message"]
-        hint = "" if "--" in message or p["repair"] else " (leave out --no-repair to repair it)"
+        hint = "" if "--" in message else " (leave out --no-repair to repair it)" if not p["repair"] else \
+            " (edges of three or more facets, a fin or a sheet inside the part, have no safe repair: delete " \
+            "those facets in a mesh editor, such as Blender's Select > Select All by Trait > Non Manifold, and " \
+            "slice the file again)" if inp.check.n_nonmanifold_edges else ""
         raise ValueError(f"{inp.path}: {message}{hint}; its layers would not be closed regions")
     if inp.check.volume < 0:  # only with --no-repair: a repair turns it outward
         raise ValueError(f"{inp.path}: the mesh is inside out (its volume is {inp.check.volume:.6g} mm3): "
