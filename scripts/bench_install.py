@@ -133,11 +133,11 @@ def make_row(cube: Path, tmp: Path) -> list:
 def table(rows: list) -> str:
     """The rows as text, with each first run's ratio to make's."""
     make = next((runs["first"] for label, _, runs in rows if label.startswith("make")), None)
-    head = f"{'how installed':<40} {'install s':>9} {'first s':>8} {'second s':>8} {'first/make':>10}  kernels (--version)"
+    head = f"{'how installed':<46} {'install s':>9} {'first s':>8} {'second s':>8} {'first/make':>10}  kernels (--version)"
     lines = [head, "-" * len(head)]
     for label, install, runs in rows:
         ratio = f"{runs['first'] / make:.1f}x" if make else "-"
-        lines.append(f"{label:<40} {'-' if install is None else f'{install:.1f}':>9} {runs['first']:>8.2f} "
+        lines.append(f"{label:<46} {'-' if install is None else f'{install:.1f}':>9} {runs['first']:>8.2f} "
                      f"{runs['second']:>8.2f} {ratio:>10}  {runs['kernels']}")
     return "\n".join(lines)
 
