@@ -51,6 +51,9 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT / "scripts"))
+import benchlib  # noqa: E402
+
 LAYER, WIDTH, PERIMETERS, INFILL, SOLID = 0.2, 0.4, 2, 20, 3
 
 
@@ -393,6 +396,8 @@ def main(argv=None) -> int:
                     help="the broad set of real parts (default) or the seven the planner was tuned on")
     ap.add_argument("--only", action="append", default=[], metavar="WORD",
                     help="keep the runs whose label holds this word (repeatable)")
+    ap.add_argument("--docs", action="store_true",
+                    help="also write what is printed, with the machine and date, for the docs' performance pages")
     args = ap.parse_args(argv)
     if args.mesh:
         parts = [(m.name, m, None, args.support) for m in args.mesh]
@@ -436,4 +441,5 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    with benchlib.docs_output("bench_slice", "--docs" in sys.argv[1:]):
+        raise SystemExit(main())

@@ -42,6 +42,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 import slicelab  # noqa: E402
+sys.path.insert(0, str(ROOT / "scripts"))
+import benchlib  # noqa: E402
 from slicelab.mesh.written import write_mesh  # noqa: E402
 from slicelab.mesh import MeshFileError  # noqa: E402
 
@@ -181,6 +183,8 @@ def main(argv=None) -> int:
     ap.add_argument("--preview", action="store_true", help="with --slice: previews drawn and counted")
     ap.add_argument("--keep", type=Path, default=None,
                     help="save the float64 triangles of each part not closed on disk here (.npy)")
+    ap.add_argument("--docs", action="store_true",
+                    help="also write what is printed, with the machine and date, for the docs' performance pages")
     args = ap.parse_args(argv)
     if not args.root.is_dir():
         print(f"robustness: {args.root} is not there; nothing to do")
@@ -267,4 +271,5 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    raise SystemExit(main())
+    with benchlib.docs_output("robustness", "--docs" in sys.argv[1:]):
+        raise SystemExit(main())
