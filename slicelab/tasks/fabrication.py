@@ -79,6 +79,12 @@ def _open_input(inp, p=None) -> list:
     hint = "" if filled else " (near-coincident vertices: try --repair)" if r.n_near_vertices else \
         " (1 hole: --fill-holes closes it)" if r.n_holes == 1 else \
         f" ({r.n_holes} holes: --fill-holes closes them)" if r.n_holes else ""
+    if not hint and (r.n_nonmanifold_edges or r.n_open_edges) and (p or {}).get("repair", True):
+        # Edges of three or more facets (a fin, a sheet inside) or open edges that bound no hole have
+        # no safe repair (with --no-repair, the repair may yet mend them: that is said instead).
+        hint = (" (edges of three or more facets, or open edges around no hole, have no safe repair: delete "
+                "or mend those facets in a mesh editor, such as Blender's Select > Select All by Trait > "
+                "Non Manifold, and try again)")
     return [reason("open_input", f"the input is not watertight{' even after --fill-holes' if filled else ''}: "
                                  f"{r.n_open_edges} open, {r.n_nonmanifold_edges} non-manifold, "
                                  f"{r.n_misoriented_edges} misoriented edges{hint}")]
@@ -314,10 +320,8 @@ def _slice_feasible(inp, p):
     why = _open_input(inp, p)
     if why and not inp.check.closed_by_winding:
         message = why[0]["message"]
-        hint = "" if "--" in message else " (leave out --no-repair to repair it)" if not p["repair"] else \
-            " (edges of three or more facets, a fin or a sheet inside the part, have no safe repair: delete " \
-            "those facets in a mesh editor, such as Blender's Select > Select All by Trait > Non Manifold, and " \
-            "slice the file again)" if inp.check.n_nonmanifold_edges else ""
+        hint = "" if "--" in message or "mesh editor" in message or p["repair"] else \
+            " (leave out --no-repair to repair it)"
         raise ValueError(f"{inp.path}: {message}{hint}; its layers would not be closed regions")
     if inp.check.volume < 0:  # only with --no-repair: a repair turns it outward
         raise ValueError(f"{inp.path}: the mesh is inside out (its volume is {inp.check.volume:.6g} mm3): "
