@@ -346,7 +346,8 @@ def lip_arc(triangles: np.ndarray, z_top: float, thickness: float, noise: float,
     """The angle (radians) the lip's crest covers about the axis (the frame's z), and the angle its
     typical facet spans (how coarse the mesh is there): the facets of the
     crest's band (its top 0.05 wall thicknesses, widened by the noise, facing up within 60 degrees)
-    on its outer quarter (the rim's edge: a break crossing the lip aslant covers more further in),
+    on its outer quarter across the crest (the rim's edge: a break crossing the lip aslant covers more
+    further in; all of a crest narrower than a tenth of the wall, as a bevel's ridge),
     each covering the angles between its corners (`slicelab.artefacts.strips.covered_span`):
     a coarse mesh's few facets count for what they span. With ``total``, the sum of the arcs covered
     (a reassembled vessel's rim pieces), not the span.
@@ -369,7 +370,18 @@ def lip_arc(triangles: np.ndarray, z_top: float, thickness: float, noise: float,
     if band.sum() < 2:
         return math.nan, math.nan
     r = np.hypot(c[band, 0], c[band, 1])
-    outer = t[band][r >= np.quantile(r, 0.75) - 1e-9]
+    # The outer quarter across the crest, not along it: an axis a few hundredths of a mm off centre
+    # tilts the radius along the arc by more than a narrow (bevelled, rounded) crest is wide, and
+    # the quarter would keep one end of the arc only. So the radius's offset term is taken out first.
+    phi_c = np.arctan2(c[band, 1], c[band, 0])
+    basis = np.column_stack([np.ones_like(phi_c), np.cos(phi_c), np.sin(phi_c)])
+    across = r - basis @ np.linalg.lstsq(basis, r, rcond=None)[0]
+    # A crest narrower than a tenth of the wall (a bevel's ridge) has no outer edge to choose: a
+    # quarter of it would follow the mesh's own small wobbles (hundredths of a mm) along the arc.
+    # (The quarter's edge is eased by a tenth of the crest's width: the offset fit leaves a few
+    # hundredths of a mm between facets that are equally far out.)
+    width = np.quantile(across, 0.9) - np.quantile(across, 0.1)
+    outer = t[band][across >= np.quantile(across, 0.75) - 0.1 * width] if width > 0.1 * thickness else t[band]
     arc = math.radians(covered_span(outer, np.zeros(3), np.array([0.0, 0.0, 1.0]), bins=1440, total=total))
     # How coarse the crest's facets are (radians about the axis): each end of the arc is that uncertain.
     phi = np.arctan2(outer[..., 1], outer[..., 0])
