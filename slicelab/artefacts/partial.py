@@ -106,13 +106,18 @@ def sherd_profile(mesh: Mesh, alignment, planes: int, max_gap: float):
 def shell_count(mesh: Mesh, share: float = 0.005) -> int:
     """How many closed connected shells of the mesh hold at least `share` of its area (a reassembled
     vessel's fragments; a jug's handle is one more; noise's specks, and an open scan's sheets that a
-    hole or a broken rim cut apart, are none).
+    hole or a broken rim cut apart, are none). A mesh with an inward shell (a sealed cavity) is one
+    solid with a cavity, not fragments: it counts its outward shells only when no shell is inward,
+    else 1 (its cavity and what the cavity holds are the business of the capacity, not of the
+    fragments).
 
     Examples
     --------
-    >>> from slicelab.samples import box, concat
+    >>> from slicelab.samples import box, concat, nested_shells
     >>> shell_count(concat(box((0, 0, 0), (1, 1, 1)), box((3, 0, 0), (4, 1, 1))))
     2
+    >>> shell_count(nested_shells())  # a box, its sealed cavity, an island in the cavity
+    1
     """
     from ..geometry.topology import edge_table, shells, weld
     v, f = weld(mesh.triangles)
@@ -126,7 +131,11 @@ def shell_count(mesh: Mesh, share: float = 0.005) -> int:
     open_facets = et["first"][et["counts"] == 1] // 3
     closed = np.ones(n, bool)
     closed[label[open_facets]] = False
-    return int(((per >= share * per.sum()) & closed).sum())
+    big = (per >= share * per.sum()) & closed
+    volume = np.bincount(label, np.einsum("ij,ij->i", t[:, 0], np.cross(t[:, 1], t[:, 2])) / 6.0, n)
+    if (volume[big] < 0).any():
+        return 1
+    return int(big.sum())
 
 
 def composite_half(mesh: Mesh, angles, candidates=None, max_gap: float = 1.0, bridge: float = 0.0):
