@@ -315,6 +315,11 @@ def _profile_report(pr, inp, p):
     elif a is not None and a.up_from == "centre of mass":
         reasons.append(reason("upside_down_risk", "neither a base crossing the axis nor an open rim was found: "
                                                   "up was taken from the centre of mass"))
+    elif a is not None and a.up_from == "open boundary":
+        # No base crossing the axis: the opening taken for the rim may as well be a break below (a ring
+        # of wall broken off under a whole lip), and the drawing would stand on its head.
+        reasons.append(reason("upside_down_risk", "no base crossing the axis was found: up was taken from the "
+                                                  "open boundary, which may be a break rather than the rim"))
     angle, parts = pr.appendage_angle, pr.appendages
     if angle is not None or parts:
         where = f"at {angle:.0f} degrees about the axis " if angle is not None else ""
