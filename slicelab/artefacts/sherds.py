@@ -299,10 +299,13 @@ def sherd_stance(mesh: Mesh, sample: SurfaceSample, point, direction, noise: flo
     kind_conf, up_conf = 0.5, 0.5
     lip_judgement = None
     first = judge_ends(strips, exclude=-base if base else None)
-    if base and first is not None and first.lip is not None and first.kind_confidence >= CONFIDENT:
-        # A lip at the other end too: a whole profile's sherd (or a plate's wall taken for a base).
-        # The lip decides (the EVE is what a lab counts); the base is measured all the same.
+    rival = 1.0  # how sure the kind can be at most: less when a base and a lip both stand a chance
+    if base and first is not None and first.lip is not None and first.kind_confidence > 0.5:
+        # A lip at the other end too: a whole profile's sherd, a plate's wall or a bowl's low, nearly
+        # level wall taken for a base. The lip decides (the EVE is what a lab counts); when it is
+        # not sure, neither is the kind, and the warning says so.
         base = 0
+        rival = max(first.kind_confidence, 0.5)
     if base:
         kind, up_from, kind_conf, up_conf = "base", "base plane", 0.95, 0.97
         direction = base * direction
@@ -333,6 +336,7 @@ def sherd_stance(mesh: Mesh, sample: SurfaceSample, point, direction, noise: flo
                 up_conf = up_confidence(best[0], rival) if j.consistent else 0.5
             else:
                 kind_conf = 1.0 - lip_confidence(best[0])
+    kind_conf = min(kind_conf, rival)
     face_of = None
     if kind == "base":
         point, direction = _level_face(mesh, sample, point, direction, "base", tol, t_wall)
