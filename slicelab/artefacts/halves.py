@@ -191,6 +191,13 @@ def plane_candidates(mesh: Mesh, angles) -> list[np.ndarray]:
     being the largest horizontal distance from the centroid to a corner. The
     test runs in float32 with a margin far above float32 rounding: it only has
     to keep every facet the exact section needs.
+
+    Examples
+    --------
+    >>> from slicelab.samples import pot
+    >>> mesh = pot(20, 24)
+    >>> [len(c) < len(mesh) // 4 for c in plane_candidates(mesh, [0.0, 1.0])]
+    [True, True]
     """
     t = mesh.triangles
     x = t[..., 0].astype(np.float32)

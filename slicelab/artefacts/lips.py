@@ -230,7 +230,16 @@ def _exterior_window(s: Strip, k: int, skip: float, length: float):
 
 def crest_height(s: Strip, k: int, up: float = 1.0) -> float:
     """The height of end `k`'s crest: the median height (unsmoothed) of its points whose normal is
-    within 15 degrees of up (a flat land's whole width, a rounded lip's top), else its highest point."""
+    within 15 degrees of up (a flat land's whole width, a rounded lip's top), else its highest point.
+
+    Examples
+    --------
+    >>> from slicelab.artefacts.strips import strip
+    >>> land = strip(np.array([[40, 0], [44, 0], [44, 30], [40, 30]], float), 0.0, 0.0)
+    >>> top = int(np.argmax([land.centre(k)[1] for k in (0, 1)]))
+    >>> crest_height(land, top)
+    30.0
+    """
     sel = s.end == k
     level = sel & (up * s.normals[:, 1] >= math.cos(math.radians(15)))
     raw = s.raw if s.raw is not None else s.points

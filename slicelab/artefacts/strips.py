@@ -394,7 +394,15 @@ def _runs(mask: np.ndarray):
 def end_spread(curves, k_ref: int | None = None) -> float:
     """How far the same end of different sections lies apart (mm): for each pair of curves, the
     median distance from the points of one to the polyline of the other; the median over pairs.
-    About the noise for a surface of revolution (a lip), the break's wavering for a break."""
+    About the noise for a surface of revolution (a lip), the break's wavering for a break.
+
+    Examples
+    --------
+    >>> land = strip(np.array([[40, 0], [44, 0], [44, 30], [40, 30]], float), 0.0, 0.0)
+    >>> top = int(np.argmax([land.centre(k)[1] for k in (0, 1)]))
+    >>> round(end_spread([land.end_points(top), land.end_points(top) + [0.0, 0.1]]), 6)
+    0.1
+    """
     from scipy.spatial import cKDTree
     curves = [c for c in curves if len(c) >= 2]
     if len(curves) < 2:
