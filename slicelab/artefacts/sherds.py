@@ -166,7 +166,7 @@ class SherdReport:
                     else "its halves could not each be fitted"),
                 "rim_uncertain": f"the rim diameter and EVE are uncertain: {self.rim_diameter:.1f} +- "
                                  f"{self.rim_diameter_sd:.1f} mm, {100 * self.rim_fraction:.0f} % of the rim "
-                                 f"(a short or coarse lip, or an axis not trusted)",
+                                 f"(a short or coarse lip, an axis not trusted, or a lip that may be a level break)",
                 "base_uncertain": f"the base diameter is uncertain: {self.base_diameter:.1f} +- "
                                   f"{self.base_diameter_sd:.1f} mm (a short arc, or an axis not trusted)"}
         return [(w, said.get(w, w)) for w in self.warnings]
@@ -378,9 +378,10 @@ def sherd_stance(mesh: Mesh, sample: SurfaceSample, point, direction, noise: flo
     if not trusted:
         warnings.append("axis_uncertain")
     if kind == "rim" and (not math.isfinite(rim_sd) or rim_sd > _RIM_SD * rim_d or not math.isfinite(rim_fraction)
-                          or arc_step > math.radians(3.6) or not trusted):
+                          or arc_step > math.radians(3.6) or not trusted or up_conf < CONFIDENT):
         # (a lip of facets over 3.6 degrees wide: each end of its arc is a point of EVE uncertain;
-        # an axis not trusted: the circle the lip is measured on is not the vessel's)
+        # an axis not trusted: the circle the lip is measured on is not the vessel's; the stance
+        # uncertain: the end measured as the lip may be a level break, its circle another diameter)
         warnings.append("rim_uncertain")
     if kind == "base" and (not math.isfinite(base_sd) or base_sd > _RIM_SD * base_d or not trusted):
         warnings.append("base_uncertain")
