@@ -110,6 +110,19 @@ def test_rim_sherds_with_irregular_breaks_are_rims_the_right_way_up(form, lip, s
     assert "kind_uncertain" not in s.warnings and "up_uncertain" not in s.warnings
 
 
+def test_a_bevelled_ridge_keeps_its_whole_arc_and_a_near_level_wall_is_no_silent_base():
+    """Two of bench_artefacts.py's cases (spacing 0.5): a bevel's crest, a ridge hundredths of a mm wide,
+    covers the sherd's whole arc (its 'outer quarter' once kept half: EVE 12 points short); a bowl's low,
+    nearly level wall at 0.2 mm of noise is not a base while a lip stands a chance at the other end."""
+    mesh, truth = samples.scan("beaker", sherd="rim", span=90.0, lip="bevelled", noise=0.0, spacing=0.5, seed=19)
+    s = align(mesh).sherd
+    assert s.kind == "rim" and s.rim_fraction == pytest.approx(truth["rim_fraction"], abs=0.02)
+    mesh, truth = samples.scan("bowl", sherd="rim", span=60.0, lip="everted", noise=0.2, spacing=0.5, seed=12)
+    a = align(mesh)
+    right = a.sherd.kind == "rim" and angle_deg(a.axis, truth["axis"]) <= 2.0
+    assert right or "kind_uncertain" in a.sherd.warnings
+
+
 @pytest.mark.parametrize("seed", [11, 12, 13, 14])
 def test_a_level_break_never_stands_a_sherd_on_its_head_silently(seed):
     """A lower break along a coil joint runs level like a lip: right way up, or a warning."""
