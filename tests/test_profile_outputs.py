@@ -241,3 +241,18 @@ def test_dxf_is_the_same_bytes_in_every_process(tmp_path):
         subprocess.run([sys.executable, "-c", WRITE_DXF, str(tmp_path / f"{seed}.dxf")], check=True, timeout=300,
                        env={**os.environ, "PYTHONHASHSEED": str(seed)})
     assert len({(tmp_path / f"{seed}.dxf").read_bytes() for seed in (1, 2, 3, 4)}) == 1
+
+
+def test_a_piece_of_uncertain_kind_adds_no_eve_to_the_table(pieces):
+    # A low-poly body or base sherd can be taken for a rim with kind_uncertain: the batch's EVE
+    # table (what a lab sums) leaves its rim EVE out; its report keeps the figure with the warning.
+    rim = pieces["rim"]
+    job = JOBS["profile"]
+    inp = JobInput(Path("rim.stl"), None)
+    sure, _ = job.report(rim, inp, job.check_parameters())
+    doubt = dataclasses.replace(rim.sherd, warnings=("kind_uncertain",), kind_confidence=0.6)
+    unsure = dataclasses.replace(rim, alignment=dataclasses.replace(rim.alignment, sherd=doubt))
+    results, _ = job.report(unsure, inp, job.check_parameters())
+    assert sure["rim_eve"] == pytest.approx(rim.sherd.rim_fraction) and sure["rim_eve"] > 0
+    assert results["kind"] == "rim" and results["rim_eve"] is None
+    assert unsure.sherd.rim_fraction == rim.sherd.rim_fraction

@@ -46,10 +46,11 @@ def test_scan_noise_pose_holes_and_ovality_are_what_the_truth_says():
     assert truth["ovality"] == pytest.approx(2.0)
     assert check(mesh).n_open_edges > 0
     clean, _ = samples.scan("beaker", spacing=1.5, seed=4)
-    assert check(clean).watertight and surface_noise(clean.triangles) < 1e-6
+    # A clean mesh reads no noise: only the local quadrics' own misfit (third-order terms), under 0.1 um.
+    assert check(clean).watertight and surface_noise(clean.triangles) < 1e-4
     noisy, _ = samples.scan("beaker", spacing=1.5, noise=0.1, seed=4)
     assert surface_noise(noisy.triangles) == pytest.approx(0.1, rel=0.15)
-    _, t = samples.scan("plate", spacing=3.0, sherd="rim", span=45.0, pose=False)
+    _, t = samples.scan("plate", spacing=3.0, sherd="rim", span=45.0, pose=False, breaks="straight")
     assert t["rim_fraction"] == 0.125 and t["capacity"] is None and t["base_diameter"] is None
 
 
@@ -201,7 +202,8 @@ def test_bench_script_runs_one_case(tmp_path):
     import sys
     root = pathlib.Path(__file__).resolve().parents[1]
     out = subprocess.run([sys.executable, str(root / "scripts" / "bench_artefacts.py"), "--spacing", "2.0",
-                          "--forms", "beaker", "--noise", "0.1", "--span", "90", "--kinds", "whole,sherd"],
+                          "--forms", "beaker", "--noise", "0.1", "--span", "90", "--kinds", "whole,sherd",
+                          "--families", "none"],
                          capture_output=True,
                          text=True, cwd=root, timeout=120)
     assert out.returncode == 0, out.stderr

@@ -30,9 +30,10 @@ import numpy as np
 
 from ..mesh.core import Mesh
 from .axis_fit import circle_pass, line_complex_axis, rotation_to_z, surface_moments
-from .axis_lines import angular_span, fit_axis_lines, smoothed_normals
+from .axis_lines import SurfaceSample, angular_span, fit_axis_lines, smoothed_normals
 from .axis_search import search_axis
 from .sherds import TRUSTED_AXIS, SherdReport, sherd_stance
+from .strips import covered_span
 
 __all__ = ["Alignment", "align"]
 
@@ -41,8 +42,8 @@ _NOT_REVOLUTION = 0.03    # relative circle residual (noise averaged out) above 
 _WHOLE_SPAN = 330.0       # degrees about the axis a whole vessel's surface covers at least
 _MIN_SPAN = 10.0          # degrees: an axis that sees the surface under less is not its axis
 _POOR_FIT = 0.01          # trimmed mean square sine above which the normal lines did not find an axis
-_SHERD_POINTS = 200       # vertices a sherd has at least: the span of a few CAD corners says nothing
 _RIVAL = 1.5              # another axis fitting within this factor of the score leaves a body sherd's axis open
+_SHERD_FACETS = 100       # facets a sherd has at least (an archive's coarsest have 250): a CAD box's gaps say nothing
 _CLEAN_FIT = 1e-6         # trimmed mean square sine over which a clean (unsmoothed) mesh's normals miss the axis
 
 
@@ -91,6 +92,11 @@ class Alignment:
     sherd : SherdReport or None
         For a fragment (`is_fragment`): its kind, its rim or base and whether its axis can be
         trusted (`slicelab.artefacts.sherds.sherd_stance`).
+    noise_sd : float
+        Standard uncertainty (mm) of `noise` (`slicelab.artefacts.noise.NoiseEstimate`).
+    noise_samples : int
+        Vertices the noise was measured on: 0 when the mesh is too small or coarse to say (its
+        facets are then taken as they are, unsmoothed).
 
     See Also
     --------
@@ -112,12 +118,22 @@ class Alignment:
     mean_radius: float = float("nan")
     sherd: SherdReport | None = None
     fit_score: float = 0.0
+    noise_sd: float = 0.0
+    noise_samples: int = 0
 
     @property
     def is_fragment(self) -> bool:
-        """True for a sherd: the surface leaves a gap of more than 30 degrees about the axis (and
-        has 200 vertices or more: about the few corners of a CAD solid, gaps say nothing)."""
+        """True for a sherd: its facets leave a gap of more than 30 degrees about the axis (each
+        facet covering the angles between its corners, so a coarse mesh's few large facets count
+        for what they span, and a CAD solid's go round), and it has 100 facets or more."""
         return self.sherd is not None
+
+    @property
+    def noise_uncertain(self) -> bool:
+        """True when the noise estimate is over 30 % uncertain (and over 0.02 mm), so the smoothing
+        it sized may be off (`slicelab.artefacts.noise.NoiseEstimate.uncertain`; a mesh too small to
+        measure is not: nothing is smoothed on it)."""
+        return bool(self.noise_samples > 0 and self.noise > 0.02 and self.noise_sd > 0.3 * self.noise)
 
     @property
     def shape_relative(self) -> float:
@@ -149,6 +165,7 @@ class Alignment:
                 "residual": self.residual, "relative_residual": self.relative_residual,
                 "shape_residual": self.shape_residual, "noise": self.noise, "span": self.span,
                 "axis_error": self.axis_error, "up_from": self.up_from, "method": self.method,
+                "noise_sd": self.noise_sd, "noise_samples": self.noise_samples,
                 "sherd": None if self.sherd is None else self.sherd.to_dict()}
 
 
@@ -159,6 +176,29 @@ def _fit_sample(triangles: np.ndarray) -> np.ndarray:
         return triangles
     keep = np.random.default_rng(0).random(n) < _FIT_FACETS / n
     return triangles[keep]
+
+
+def _facet_sample(triangles: np.ndarray) -> SurfaceSample:
+    """The facets themselves as the sample (centroids, unit normals, areas): for a mesh too small to
+    smooth, whose vertices all sit on edges where a face meets a break."""
+    cr = np.cross(triangles[:, 1] - triangles[:, 0], triangles[:, 2] - triangles[:, 0])
+    length = np.linalg.norm(cr, axis=1)
+    ok = length > 0
+    edges = np.linalg.norm(triangles - np.roll(triangles, 1, axis=1), axis=2)
+    return SurfaceSample(triangles[ok].mean(axis=1), cr[ok] / length[ok, None], 0.5 * length[ok],
+                         float(np.median(edges)) if len(edges) else 0.0, 0)
+
+
+def _coarse(sherd: SherdReport) -> SherdReport:
+    """A coarse mesh's sherd (too few vertices to measure its noise: an archive's few hundred
+    facets): its sections interpolate a few large facets, its axis rests on a few facets' normals,
+    and a lip, a base and a break are told apart on a handful of them. Its kind and stance get at
+    most 0.8 confidence, and the warnings say so, whatever they show."""
+    kind_c, up_c = min(sherd.kind_confidence, 0.8), min(sherd.up_confidence, 0.8)
+    more = ("kind_uncertain", "up_uncertain") + (("rim_uncertain",) if sherd.kind == "rim" else ()) + \
+        (("base_uncertain",) if sherd.kind == "base" else ())
+    warnings = tuple(dict.fromkeys(more + tuple(sherd.warnings)))
+    return replace(sherd, kind_confidence=kind_c, up_confidence=up_c, warnings=warnings)
 
 
 def _up_sign(t: np.ndarray, area: np.ndarray, point: np.ndarray, direction: np.ndarray, mesh: Mesh):
@@ -281,6 +321,10 @@ def align(mesh: Mesh) -> Alignment:
     area, centroid, cov = surface_moments(t)
     scale = math.sqrt(float(np.trace(cov))) or 1.0
     sample = smoothed_normals(mesh.triangles)
+    noise_sd, noise_samples = sample.noise_sd, sample.noise_samples
+    if noise_samples == 0 and len(mesh) <= 20_000:
+        # Too few vertices to measure noise or to smooth over: each facet's own normal is exact.
+        sample = _facet_sample(mesh.triangles)
     # Starts: the line complex of the smoothed normals, then the principal axes (a jug's handle can
     # make the wrong eigenvalue stand apart, so all three). Each is refined on the normal lines.
     _, eig = np.linalg.eigh(cov)
@@ -296,6 +340,7 @@ def align(mesh: Mesh) -> Alignment:
     # nearly parallel normals as well as the true one: no such axis.
     method, fit, span = min(fits, key=lambda c: (c[2] < _MIN_SPAN, c[1].score))
     circles = None
+    span = min(span, covered_span(t, fit.point, fit.direction))
     whole = span >= _WHOLE_SPAN and fit.score <= _POOR_FIT
     if whole:
         circles = circle_pass(t, fit.point, fit.direction, shape=True, fixed=True)
@@ -314,7 +359,8 @@ def align(mesh: Mesh) -> Alignment:
         # A sherd (or a poor fit): try every direction; the line complex settles on a line through a sherd.
         for p, d, _ in search_axis(sample, candidates=True)[:3]:  # the three best valleys
             f = fit_axis_lines(sample, p, d)
-            tries.append((f, angular_span(sample.points, sample.weights, f.point, f.direction)[0]))
+            tries.append((f, min(angular_span(sample.points, sample.weights, f.point, f.direction)[0],
+                                 covered_span(t, f.point, f.direction))))
         found, found_span = min(tries, key=lambda c: (c[1] < _MIN_SPAN, c[0].score))
         sherd_like = _MIN_SPAN <= found_span < _WHOLE_SPAN and found.score <= _POOR_FIT
         if (sherd_like and span >= _WHOLE_SPAN) or \
@@ -322,16 +368,18 @@ def align(mesh: Mesh) -> Alignment:
             method, fit, span, circles = "search", found, found_span, None
     point, direction = fit.point, fit.direction / np.linalg.norm(fit.direction)
     sherd = None
-    if span < _WHOLE_SPAN and len(sample.points) >= _SHERD_POINTS:
+    if span < _WHOLE_SPAN and len(mesh) >= _SHERD_FACETS:
         # A sherd: the rim (or the base) sets the stance and refines the axis.
         point, direction, sherd = sherd_stance(mesh, sample, point, direction, sample.noise)
+        if noise_samples == 0:
+            sherd = _coarse(sherd)
         cue = sherd.up_from
-        span = angular_span(sample.points, sample.weights, point, direction)[0]
+        span = covered_span(t, point, direction)
         if sherd.kind == "body" and sherd.axis_trusted:
             # A clean mesh's normals meet the true axis to rounding; else its halves must agree.
             off = math.inf if sample.rounds == 0 and fit.score > _CLEAN_FIT else \
                 _halves_disagree(sample, point, direction)
-            if off > TRUSTED_AXIS:
+            if off > TRUSTED_AXIS / 2:  # a rival within 2.5 degrees leaves the axis that loose
                 sherd = replace(sherd, axis_trusted=False, axis_spread=off)
     if circles is None or sherd is not None:
         circles = circle_pass(t, point, direction, shape=True, min_sectors=12 if span >= _WHOLE_SPAN else 2)
@@ -356,4 +404,4 @@ def align(mesh: Mesh) -> Alignment:
     normals = np.einsum("...j,ij->...i", mesh.file_normals, R)
     return Alignment(Mesh(moved, normals), matrix, direction, origin, float(rms), float(rel), cue, method,
                      float(shape), float(sample.noise), float(span), math.degrees(fit.sigma_angle), float(mean_r),
-                     sherd, float(fit.score))
+                     sherd, float(fit.score), float(noise_sd), int(noise_samples))

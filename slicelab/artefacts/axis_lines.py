@@ -42,13 +42,11 @@ import numpy as np
 
 from .axis_fit import rotation_to_z, tukey_weights
 
-__all__ = ["SurfaceSample", "surface_noise", "smoothed_normals", "fit_axis_lines", "AxisFit", "angular_span"]
+__all__ = ["SurfaceSample", "smoothed_normals", "fit_axis_lines", "AxisFit", "angular_span"]
 
 _REACH_PER_NOISE = 10.0    # smoothing reach, in noise standard deviations
-_LAPLACE_GAIN = 1.36       # noise sigma -> robust spread of the second difference on a scan's mesh
 _MAX_ROUNDS = 24           # averaging rounds at most
 _SAMPLE = 150_000          # vertices kept for fitting
-_SCAN_VERTICES = 200       # a mesh with fewer vertices is no scan: its corners are no noise
 
 
 @dataclass(frozen=True, eq=False)
@@ -69,9 +67,13 @@ class SurfaceSample:
     kept_share : float
         Share of the (fine) mesh's vertices kept in the sample.
     noise : float
-        Estimated standard deviation of the vertices' noise (mm), from the
-        spread of the second difference of the surface along its normals
-        (curvature cancels; about 0 on a clean mesh).
+        Estimated standard deviation of the vertices' noise (mm), from
+        residuals to local quadric fits (`slicelab.artefacts.noise`; about 0
+        on a clean mesh).
+    noise_sd : float
+        Standard uncertainty (mm) of `noise`.
+    noise_samples : int
+        Vertices the noise was measured on (0: too few to say).
     """
 
     points: np.ndarray
@@ -81,6 +83,8 @@ class SurfaceSample:
     rounds: int
     kept_share: float = 1.0
     noise: float = 0.0
+    noise_sd: float = 0.0
+    noise_samples: int = 0
 
 
 def _area_vectors(v: np.ndarray, f: np.ndarray):
@@ -100,25 +104,6 @@ def _spmv(A, x: np.ndarray) -> np.ndarray:
     return np.column_stack([A @ np.ascontiguousarray(x[:, c]) for c in range(x.shape[1])])
 
 
-def _roughness(v: np.ndarray, area_vec: np.ndarray, A, deg: np.ndarray) -> float:
-    """Noise sigma of the vertices (see `surface_noise`)."""
-    length = np.linalg.norm(area_vec, axis=1)
-    n = np.divide(area_vec, length[:, None], out=np.zeros_like(area_vec), where=length[:, None] > 0)
-    lap = np.einsum("ij,ij->i", v - _spmv(A, v) / deg[:, None], n)
-    d = lap - _spmv(A, lap) / deg
-    # Only where the mesh is even (a scan's is): about a vertex of a CAD-like mesh, edges a
-    # millimetre and a decimetre long meet at sharp corners, which no noise made.
-    rows = np.repeat(np.arange(len(v)), np.diff(A.indptr))
-    edge = np.linalg.norm(v[rows] - v[A.indices], axis=1)
-    starts = A.indptr[:-1][np.diff(A.indptr) > 0]
-    even = np.zeros(len(v), bool)
-    even[np.diff(A.indptr) > 0] = (np.maximum.reduceat(edge, starts) <= 4 * np.minimum.reduceat(edge, starts))
-    if even.sum() < 0.5 * len(v) or len(v) < _SCAN_VERTICES:  # not a scan's mesh: no noise to speak of
-        return 0.0
-    d = d[even]
-    return float(1.4826 * np.median(np.abs(d - np.median(d))) / _LAPLACE_GAIN)
-
-
 def _adjacency(f: np.ndarray, nv: int):
     """The vertex adjacency of a mesh as a sparse 0/1 matrix, each vertex's degree, and its facet
     edges' ends."""
@@ -131,35 +116,6 @@ def _adjacency(f: np.ndarray, nv: int):
     return A, deg, a, b
 
 
-def surface_noise(triangles: np.ndarray) -> float:
-    """Standard deviation (mm) of a scan's vertex noise, estimated from the surface itself.
-
-    At each shared vertex, the umbrella operator (the vertex minus the mean of
-    its neighbours) along the normal is the surface's curvature plus the
-    noise; minus its own mean over the neighbours, the curvature cancels.
-    Its robust spread (1.4826 times the median absolute deviation), divided
-    by 1.36 (the gain of these two differences on a scan's mesh, measured on
-    `slicelab.samples.scan`), is the noise. Only vertices whose edges are
-    within a factor of 4 in length count, and a mesh where they are fewer
-    than half, or with fewer than 200 vertices, has none: on an uneven
-    (CAD-like) or tiny mesh the corners would pass for noise.
-
-    Examples
-    --------
-    >>> from slicelab.samples import scan
-    >>> round(surface_noise(scan("beaker", spacing=2.0, noise=0.1)[0].triangles), 1)
-    0.1
-    >>> surface_noise(scan("beaker", spacing=2.0)[0].triangles) < 1e-6
-    True
-    """
-    from ..geometry.topology import weld
-    v, f = weld(triangles)
-    if not len(f):
-        return 0.0
-    A, deg, _, _ = _adjacency(f, len(v))
-    return _roughness(v, _area_vectors(v, f)[0], A, deg)
-
-
 def smoothed_normals(triangles: np.ndarray, *, reach: float | None = None, sample: int = _SAMPLE,
                      seed: int = 0) -> SurfaceSample:
     """Vertices of a mesh with their normals averaged over a patch about `reach` mm across.
@@ -169,7 +125,7 @@ def smoothed_normals(triangles: np.ndarray, *, reach: float | None = None, sampl
     triangles : (n, 3, 3) ndarray
     reach : float, optional
         Smoothing reach (mm); default 10 times the noise the mesh shows
-        (`surface_noise`; a clean mesh is not smoothed), at most about 3.5
+        (`slicelab.artefacts.noise_estimate`; a clean mesh is not smoothed), at most about 3.5
         vertex spacings (24 rounds).
     sample : int
         Vertices kept (a deterministic random subset).
@@ -197,7 +153,9 @@ def smoothed_normals(triangles: np.ndarray, *, reach: float | None = None, sampl
     area_vec, area = _area_vectors(v, f)
     nv = len(v)
     A, deg, a, b = _adjacency(f, nv)
-    noise = _roughness(v, area_vec, A, deg)
+    from .noise import noise_estimate
+    est = noise_estimate(v, f)
+    noise = est.sigma
     stride = max(1, len(a) // 200_000)
     step = np.linalg.norm(v[a[::stride]] - v[b[::stride]], axis=1)
     spacing = float(np.median(step)) if len(step) else 0.0
@@ -213,18 +171,21 @@ def smoothed_normals(triangles: np.ndarray, *, reach: float | None = None, sampl
     n = np.column_stack(cols).astype(np.float64)
     length = np.linalg.norm(n, axis=1)
     ok = length > 0
-    if rounds:
-        # Near a sharp edge (a rim's corner, a sherd's break) the averaging mixed two faces' normals,
-        # tilting them out of the meridian plane: leave out the vertices whose smoothed normal
-        # still turns fast, over three times the median turn to the neighbours' mean.
-        unit = np.divide(n, length[:, None], out=np.zeros_like(n), where=ok[:, None])
-        turn = np.linalg.norm(_spmv(A, unit) / deg[:, None] - unit, axis=1)
-        ok &= turn <= 3.0 * float(np.median(turn[ok]))
+    # Near a sharp edge (a rim's corner, a sherd's break) the averaging mixed two faces' normals,
+    # tilting them out of the meridian plane, and a clean mesh's vertex there averages two faces; on
+    # a break's rough face the normals turn every which way: leave out the vertices whose (smoothed)
+    # normal still turns fast, over three times the median turn to the neighbours' mean (and over
+    # 0.15, so a clean smooth surface, whose median turn is nearly nil, keeps its vertices).
+    unit = np.divide(n, length[:, None], out=np.zeros_like(n), where=ok[:, None])
+    turn = np.linalg.norm(_spmv(A, unit) / deg[:, None] - unit, axis=1)
+    limit = 3.0 * float(np.median(turn[ok])) if ok.any() else 0.0
+    if nv >= 200:  # a coarse mesh's vertices all sit on edges: none left out
+        ok &= turn <= (limit if rounds else max(limit, 0.15))
     keep = np.flatnonzero(ok)
     if len(keep) > sample:
         keep = keep[np.random.default_rng(seed).random(len(keep)) < sample / len(keep)]
     return SurfaceSample(v[keep], n[keep] / length[keep, None], area[keep], spacing, rounds,
-                         len(keep) / max(nv, 1), noise)
+                         len(keep) / max(nv, 1), noise, est.sd, est.samples)
 
 
 @dataclass(frozen=True)
@@ -248,6 +209,9 @@ class AxisFit:
     score : float
         Mean of the smallest 70 % of the squared residuals: compares fits from different starts
         (the Tukey weights of each fit differ).
+    cov : (4, 4) ndarray
+        Covariance of the two tilts (radians; the direction's x and y in the frame
+        `rotation_to_z(direction)`) and the two offsets (mm) of the axis.
     """
 
     point: np.ndarray
@@ -257,6 +221,7 @@ class AxisFit:
     sigma_angle: float
     sigma_offset: float
     score: float = 0.0
+    cov: np.ndarray | None = None
 
 
 def _residuals(points, normals, point, R):
@@ -343,7 +308,17 @@ def fit_axis_lines(sample: SurfaceSample, point, direction, *, iterations: int =
         e = F / rs
         # Near the axis the meridian plane is ill defined: less say within 2 % of the size.
         w_geo = w0 * (r / (r + r0)) ** 2
-        wk = tukey_weights(e, w_geo, 1e-9) if it else w_geo
+        if it:
+            # The scale from normals at least 11 degrees off the axis: those along it (a base's
+            # underside) have no residual wherever the axis is, and would shrink the scale until
+            # the points that place the axis lose their say. A clean mesh's sines of 1e-7 are rounding.
+            informative = np.hypot(m[:, 0], m[:, 1]) >= 0.2
+            scale = np.abs(e[informative]) if informative.sum() >= 10 else np.abs(e)
+            sigma = max(1.4826 * float(np.median(scale)), 1e-7)
+            u = e / (4.685 * sigma)
+            wk = w_geo * np.where(np.abs(u) < 1, (1 - u * u) ** 2, 0.0)
+        else:
+            wk = w_geo
         J = _jacobian(q, m, r, F)
         if not tilt:
             J = J.copy()
@@ -384,7 +359,8 @@ def fit_axis_lines(sample: SurfaceSample, point, direction, *, iterations: int =
     sigma_angle = math.sqrt(max(float(cov[0, 0] + cov[1, 1]), 0.0))
     sigma_offset = math.sqrt(max(float(cov[2, 2] + cov[3, 3]), 0.0))
     score = _trimmed(e)
-    return AxisFit(point, direction, rms, float(wk.sum() / max(w0.sum(), 1e-300)), sigma_angle, sigma_offset, score)
+    return AxisFit(point, direction, rms, float(wk.sum() / max(w0.sum(), 1e-300)), sigma_angle, sigma_offset, score,
+                   cov)
 
 
 def angular_span(points: np.ndarray, weights: np.ndarray, point, direction, bins: int = 360):

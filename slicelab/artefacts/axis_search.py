@@ -43,11 +43,15 @@ def _score_directions(p: np.ndarray, n: np.ndarray, dirs: np.ndarray, keep: floa
     px, py = u @ p.T, v @ p.T            # (directions, points)
     nx, ny = u @ n.T, v @ n.T
     g = nx * py - ny * px                # F = g + ny cx - nx cy
+    # Normals within 11 degrees of the direction (a base's underside seen end on) say nothing of where
+    # the axis is, and their residuals, near zero whatever the centre, must not shrink the scale that
+    # decides who else has a say.
+    informative = nx * nx + ny * ny >= 0.04
     # First as the projected normal lines meeting (distances to them, not their moments: a break face,
     # its normal square to the meridian plane, must not outweigh a shallow wall whose normals are
     # nearly parallel to the axis), then reweighted towards the sines, Tukey on them.
-    w = 1.0 / (nx * nx + ny * ny + 0.05 ** 2)
-    for _ in range(4):  # algebraic, then reweighted towards the sines, Tukey on them
+    w = informative / (nx * nx + ny * ny + 0.05 ** 2)
+    for it in range(10):  # algebraic, then towards least absolute sines, then Tukey on them
         a11, a12, a22 = (w * ny * ny).sum(1), -(w * nx * ny).sum(1), (w * nx * nx).sum(1)
         b1, b2 = -(w * g * ny).sum(1), (w * g * nx).sum(1)
         det = a11 * a22 - a12 * a12
@@ -56,9 +60,16 @@ def _score_directions(p: np.ndarray, n: np.ndarray, dirs: np.ndarray, keep: floa
         F = g + ny * cx[:, None] - nx * cy[:, None]
         r2 = (px - cx[:, None]) ** 2 + (py - cy[:, None]) ** 2
         e = F / np.sqrt(np.maximum(r2, 1e-24))
-        sigma = np.maximum(1.4826 * np.median(np.abs(e), axis=1), 1e-9)[:, None]
+        if it < 4:
+            # Least absolute sines first (a quarter of the surface can be break faces, whose normals
+            # miss the axis by tens of degrees: least squares would follow them, and Tukey from there
+            # keeps them), then Tukey's biweight from where that lands.
+            w = informative / np.maximum(np.abs(e), 1e-4) / np.maximum(r2, 1e-24)
+            continue
+        sigma = np.nanmedian(np.where(informative, np.abs(e), np.nan), axis=1)
+        sigma = np.maximum(1.4826 * np.nan_to_num(sigma, nan=1.0), 1e-9)[:, None]
         u2 = (e / (4.685 * sigma)) ** 2
-        w = np.where(u2 < 1, (1 - u2) ** 2, 0.0) / np.maximum(r2, 1e-24)
+        w = np.where(u2 < 1, (1 - u2) ** 2, 0.0) * informative / np.maximum(r2, 1e-24)
     e2 = e * e
     m = max(1, int(keep * e2.shape[1]))
     score = np.partition(e2, m - 1, axis=1)[:, :m].mean(axis=1)
@@ -72,11 +83,12 @@ def _score_directions(p: np.ndarray, n: np.ndarray, dirs: np.ndarray, keep: floa
 
 
 def search_axis(sample: SurfaceSample, *, directions: int = 1500, points: int = 4000, keep: float = 0.7,
-                seed: int = 0, candidates: bool = False):
+                seed: int = 0, candidates: bool = False, coarse: int = 1200):
     """The axis direction whose meridian planes hold the sample's normals best, by trying them all.
 
-    For each of `directions` nearly even directions (then 300 more within 5
-    degrees of each of the best five), the normal lines are projected along it: about
+    For each of `directions` nearly even directions (scored on `coarse` of the
+    sample's points, then 300 more within 5 degrees of each of the best five,
+    scored on up to `points`), the normal lines are projected along it: about
     the true axis they all pass through one point, found by linear least
     squares; the score is the trimmed mean (best `keep` share) of the
     squared sines of the normals' angles to their meridian planes about
@@ -116,12 +128,14 @@ def search_axis(sample: SurfaceSample, *, directions: int = 1500, points: int = 
     origin = sample.points[idx].mean(axis=0)
     p, n = sample.points[idx] - origin, sample.normals[idx]
 
-    def scored(dirs):
-        parts = [_score_directions(p, n, dirs[k:k + 100], keep) for k in range(0, len(dirs), 100)]
+    def scored(dirs, m=None):  # the first m points (a random subset) or all
+        pm, nm = p[:m], n[:m]
+        parts = [_score_directions(pm, nm, dirs[k:k + 100], keep) for k in range(0, len(dirs), 100)]
         return tuple(np.concatenate([x[i] for x in parts]) for i in range(3))
 
     dirs = _hemisphere(directions)
-    scores, centres, round_ = scored(dirs)
+    # The coarse grid on a subset: the cost follows what the mesh holds, up to `coarse` points.
+    scores, centres, round_ = scored(dirs, coarse)
     # The best few coarse directions (each at least 6 degrees from a better one), each refined by
     # 300 directions within 5 degrees of it: a sherd's valley can be narrower than the coarse grid.
     # Lines that see the surface all round come last: for a whole vessel that is its axis, for a
@@ -133,15 +147,14 @@ def search_axis(sample: SurfaceSample, *, directions: int = 1500, points: int = 
         if len(seeds) == _SEARCH_SEEDS:
             break
     local = _hemisphere(1200)
-    local = local[local[:, 2] >= math.cos(math.radians(5))][:300]
+    local = np.vstack([[0.0, 0.0, 1.0], local[local[:, 2] >= math.cos(math.radians(5))][:299]])
     found = []
     for i in seeds:  # a handful of valleys
         fine = local @ rotation_to_z(dirs[i])
         sc, ce, ro = scored(fine)
         sc = np.where(ro == round_[i], sc, np.inf)  # the valley's own kind
-        j = int(np.argmin(sc))
-        found.append((bool(round_[i]), float(sc[j]), fine[j], ce[j]) if sc[j] < scores[i]
-                     else (bool(round_[i]), float(scores[i]), dirs[i], centres[i]))
+        j = int(np.argmin(sc)) if np.isfinite(sc).any() else 0
+        found.append((bool(round_[i]), float(sc[j]), fine[j], ce[j]))
     found.sort(key=lambda f: f[:2])
     if candidates:
         return [(origin + c, d, sc) for _, sc, d, c in found]

@@ -9,7 +9,8 @@ centimetres; a label with the main measurements. A sherd is drawn in sherd
 position: its section only, the rim line to the reconstructed diameter
 dashed, a break symbol (a jagged line) beside each end of the section that
 is a break rather than the vessel's surface. Where the stance is a guess
-(no rim and no base, up from the centre of mass, or a low `up_confidence`)
+(no rim and no base, up from the centre of mass or from an opening with no
+base below it, or a low `up_confidence`)
 an arrow with a question mark stands beside the section.
 
 `parts` gives all of that in the profile's own (r, z) plane (r >= 0, z up,
@@ -40,7 +41,7 @@ _BARS = (10, 20, 50, 100, 200, 500, 1000, 2000)
 SURFACES = ("exterior", "interior", "rim", "break", "axis")
 #: `up_confidence` (0-1) under which the stance is drawn as uncertain.
 UNSURE_UP = 0.7
-_GUESSES = ("unknown", "centre of mass")  # the cues that leave which way is up a guess
+_GUESSES = ("unknown", "centre of mass", "open boundary")  # cues that leave which way is up a guess
 _END_REACH = 1.25   # a strip's end: its outline within this many wall thicknesses of its extreme point
 _SECTION_GAP = 8.0  # mm from a handle's outline to its cross-section drawn beside it
 _PARTS = weakref.WeakKeyDictionary()  # profile -> its parts: the SVG, PNG, DXF and CSV share one
@@ -48,8 +49,8 @@ _PARTS = weakref.WeakKeyDictionary()  # profile -> its parts: the SVG, PNG, DXF 
 
 def orientation_uncertain(profile) -> bool:
     """Whether which way is up is a guess: no rim and no base (``up_from`` "unknown"), up from the
-    centre of mass, an ``up_confidence`` under `UNSURE_UP` or the caution ``up_uncertain`` (where the
-    sherd's report has them).
+    centre of mass or from the open boundary (no base: the opening may be a break), an
+    ``up_confidence`` under `UNSURE_UP` or the caution ``up_uncertain`` (where the sherd's report has them).
 
     Examples
     --------

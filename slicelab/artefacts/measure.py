@@ -177,7 +177,13 @@ class Measurements:
     halves' means, the min and max the medians of the halves' extremes.
     Capacity is the cavity filled to the lowest rim top, by Pappus' theorem
     (the mean over the halves, those over five robust sigmas from the median,
-    through a handle, left out).
+    through a handle, left out). `rim_diameter_sd` is the rim diameter's
+    standard uncertainty (a sherd's from its circle, a vessel's from the
+    halves' scatter); `wall_thickness_p5` and `wall_thickness_p95` the 5th
+    and 95th percentiles of the wall thickness (the medians over the halves:
+    the range a drawing's label shows, where the extremes catch a breaks' or
+    a noise's outliers); `fragmentary` marks a vessel reassembled from
+    fragments, measured only where preserved.
 
     See Also
     --------
@@ -200,6 +206,10 @@ class Measurements:
     spread: float
     residual: float
     noise: float = 0.0
+    rim_diameter_sd: float = math.nan
+    wall_thickness_p5: float = math.nan
+    wall_thickness_p95: float = math.nan
+    fragmentary: bool = False
 
     def to_dict(self) -> dict:
         """Plain floats (NaN where a measurement does not apply)."""
@@ -325,6 +335,9 @@ def measure_halves(halves: list[HalfProfile], height: float, spread: float, resi
         return float(np.median(x)) if len(x) else nan
 
     walls = [o for o in outs if len(o.thickness)]
+    rims = np.array([o.rim_r for o in outs if math.isfinite(o.rim_r)])
+    rim_sd = 2 * 1.2533 * 1.4826 * float(np.median(np.abs(rims - np.median(rims)))) / math.sqrt(len(rims)) \
+        if len(rims) >= 3 else nan
     return Measurements(
         height=median(o.height for o in outs), rim_diameter=2 * median(o.rim_r for o in outs),
         max_diameter=2 * median(o.max_r for o in outs),
@@ -335,4 +348,6 @@ def measure_halves(halves: list[HalfProfile], height: float, spread: float, resi
         wall_thickness_max=median(float(o.thickness.max()) for o in walls),
         base_thickness=median(o.base_thickness for o in outs), capacity=mean(_typical(cap)), clay_volume=mean(clay),
         halves=len(halves), spread=float(spread), residual=float(residual),
-        noise=float(noise if noise is not None else outs[0].noise if outs else 0.0))
+        noise=float(noise if noise is not None else outs[0].noise if outs else 0.0), rim_diameter_sd=rim_sd,
+        wall_thickness_p5=median(float(np.percentile(o.thickness, 5)) for o in walls),
+        wall_thickness_p95=median(float(np.percentile(o.thickness, 95)) for o in walls))

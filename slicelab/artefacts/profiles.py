@@ -16,195 +16,19 @@ from functools import cached_property
 
 import numpy as np
 
-from ..geometry.polygons import signed_area
 from ..mesh.core import Mesh
-from ..slicing.sections import section
 from . import axis
-from .measure import UP_COSINE, Measurements, clip_ring, half_outlines, measure_halves, resample
+from .halves import HalfProfile, half_from_ring, half_profiles, plane_candidates, representative
+from .measure import Measurements, half_outlines, measure_halves
+from .partial import closing_gap, composite_half, shell_count, sherd_profile
 
 __all__ = ["HalfProfile", "half_profiles", "Profile", "profile", "closing_gap"]
 
 _NOT_TYPICAL = 0.05       # half-sections further apart than this share of the radius: no one profile
 _MAX_CLOSING = 0.1        # an open scan's sections are closed across gaps up to this share of its size
 _CLOSING_MARGIN = 1.25    # times the median gap the planes need: the noise widens some of them
-
-
-@dataclass(frozen=True, eq=False)
-class HalfProfile:
-    """One side of a section through the axis, in (r, z): r >= 0 away from the axis, z up.
-
-    Attributes
-    ----------
-    angle : float
-        Direction of this half-plane about the axis (radians, from +x).
-    polygon : (k, 2) ndarray
-        The wall's section, counter-clockwise (material on the left).
-    holes : tuple of (k, 2) ndarray
-        Voids inside the wall (clockwise).
-    outer : (k, 2) ndarray
-        Exterior outline, from the rim's outer edge down to the axis (or the lowest point).
-    inner : (k, 2) ndarray
-        Interior outline, from the rim's inner edge down to the axis (or the lowest point).
-    top : int
-        Index in `polygon` of the highest point (where the rim is).
-    other_area : float
-        Area (mm^2) of the other polygons of the section on this side, left out
-        (a handle's or a lug's section when it does not touch the wall).
-
-    See Also
-    --------
-    half_profiles : makes them.
-    Profile : all of a vessel's halves and the drawn one.
-    """
-
-    angle: float
-    polygon: np.ndarray
-    holes: tuple
-    outer: np.ndarray
-    inner: np.ndarray
-    top: int
-    other_area: float = 0.0
-
-    @property
-    def area(self) -> float:
-        """Section area (mm^2)."""
-        return signed_area(self.polygon) + sum(signed_area(h) for h in self.holes)
-
-
-def _split_chains(ring: np.ndarray, axis_tol: float):
-    """Split a counter-clockwise (r, z) ring at its top into exterior and interior outlines."""
-    k = len(ring)
-    top = int(np.argmax(ring[:, 1]))
-    d = np.roll(ring, -1, axis=0) - ring  # edge e runs from ring[e] to ring[e + 1]
-    length = np.hypot(d[:, 0], d[:, 1])
-    nz = np.divide(-d[:, 0], length, out=np.zeros(k), where=length > 0)  # outward normal (dz, -dr)
-    up = nz >= UP_COSINE
-    on_axis = ring[:, 0] <= axis_tol
-    fwd = (top + np.arange(k)) % k          # ring indices walking forward from the top
-    bwd = (top - np.arange(k)) % k          # and backward
-    # The rim: edges that face up on either side of the top point.
-    n_in = int(np.argmin(up[fwd])) if not up.all() else 0
-    n_out = int(np.argmin(up[(bwd - 1) % k])) if not up.all() else 0
-    if on_axis.any():
-        stop_in = int(np.argmax(on_axis[fwd[n_in:]])) + n_in if on_axis[fwd[n_in:]].any() else k - 1
-        stop_out = int(np.argmax(on_axis[bwd[n_out:]])) + n_out if on_axis[bwd[n_out:]].any() else k - 1
-    else:
-        low = int(np.argmin(ring[:, 1]))
-        stop_in = int((low - top) % k)
-        stop_out = int((top - low) % k)
-    inner = ring[fwd[n_in:max(stop_in, n_in) + 1]]
-    outer = ring[bwd[n_out:max(stop_out, n_out) + 1]]
-    return outer, inner, top
-
-
-def half_profiles(mesh: Mesh, angle: float, *, max_gap: float = 1.0, candidates=None) -> list[HalfProfile]:
-    """Both halves of the section of an aligned mesh by the vertical plane through z at `angle`.
-
-    Parameters
-    ----------
-    mesh : Mesh
-        Aligned: axis of revolution along +z through the origin.
-    angle : float
-        Radians; the halves point along ``(cos a, sin a)`` and the opposite way.
-    max_gap : float
-        As in `slicelab.section`.
-    candidates : (n,) int ndarray, optional
-        Facets that may cross the plane (a superset); the others are skipped.
-
-    Returns
-    -------
-    list of HalfProfile
-        Zero, one or two halves; a plane whose section has open chains (a hole
-        in the scan) gives none.
-
-    See Also
-    --------
-    profile : half-sections at several angles, the drawn one and the measurements.
-    slicelab.artefacts.clip_ring : clips each polygon of the section at the axis.
-    slicelab.section
-
-    Examples
-    --------
-    >>> from slicelab.samples import pot
-    >>> h = half_profiles(pot(20, 24), 0.0)
-    >>> len(h), round(float(h[0].polygon[:, 0].max()), 3)
-    (2, 61.937)
-    """
-    c, s = math.cos(angle), math.sin(angle)
-    sub = mesh if candidates is None else Mesh(mesh.triangles[candidates])
-    # Normal (sin a, -cos a, 0): the frame's u = v x normal then points along (cos a, sin a).
-    sec = section(sub, (0.0, 0.0, 0.0), (s, -c, 0.0), max_gap=max_gap)
-    if sec.open_chains or not sec.loops:
-        return []
-    scale = float(np.abs(sec.bounds()).max()) or 1.0
-    out = []
-    for side, a in ((1.0, angle), (-1.0, angle + math.pi)):
-        best, best_area, holes, total = None, 0.0, [], 0.0
-        for poly in sec.polygons:  # over the section's few polygons
-            ext = clip_ring(poly.exterior, 0, keep_below=side < 0)
-            if len(ext) < 3:
-                continue
-            ext = np.column_stack([side * ext[:, 0], ext[:, 1]])
-            if side < 0:
-                ext = ext[::-1]
-            area = signed_area(ext)
-            total += max(area, 0.0)
-            if area > best_area:
-                hs = []
-                for h in poly.holes:
-                    hc = clip_ring(h, 0, keep_below=side < 0)
-                    if len(hc) >= 3:
-                        hc = np.column_stack([side * hc[:, 0], hc[:, 1]])
-                        hs.append(hc[::-1] if side < 0 else hc)
-                best, best_area, holes = ext, area, hs
-        if best is None or best_area <= 0:
-            continue
-        # Points on the axis (clipped there, or poles a rounding error off it) sit exactly at r = 0.
-        tol = 1e-9 * scale
-        best = np.where((best[:, 0] <= tol)[:, None], np.column_stack([np.zeros(len(best)), best[:, 1]]), best)
-        # A vertex lying in the plane is met by two facets: drop repeats a rounding error apart.
-        best = best[np.abs(best - np.roll(best, 1, axis=0)).max(axis=1) > tol]
-        if len(best) < 3:
-            continue
-        outer, inner, top = _split_chains(best, 0.0)
-        out.append(HalfProfile(float(a % (2 * math.pi)), best, tuple(holes), outer, inner, top,
-                               float(total - best_area)))
-    return out
-
-
-def _rms_distance(a: np.ndarray, b: np.ndarray, tree_a, tree_b) -> float:
-    """Symmetric RMS of nearest-point distances between two point sets."""
-    da = tree_b.query(a)[0]
-    db = tree_a.query(b)[0]
-    return float(math.sqrt((np.mean(da ** 2) + np.mean(db ** 2)) / 2))
-
-
-def _candidates(mesh: Mesh, angles) -> list[np.ndarray]:
-    """Facets that may cross each vertical plane through z: a cheap superset, per plane.
-
-    A facet can reach a plane only if its centroid lies within rho of it, rho
-    being the largest horizontal distance from the centroid to a corner. The
-    test runs in float32 with a margin far above float32 rounding: it only has
-    to keep every facet the exact section needs.
-    """
-    t = mesh.triangles
-    x = t[..., 0].astype(np.float32)
-    y = t[..., 1].astype(np.float32)
-    cx = (x[:, 0] + x[:, 1] + x[:, 2]) / np.float32(3)
-    cy = (y[:, 0] + y[:, 1] + y[:, 2]) / np.float32(3)
-    rho2 = np.zeros(len(t), np.float32)
-    for k in range(3):  # three corners
-        dx, dy = x[:, k] - cx, y[:, k] - cy
-        np.maximum(rho2, dx * dx + dy * dy, out=rho2)
-    size = float(np.abs(x).max() + np.abs(y).max()) if len(t) else 1.0
-    rho = np.sqrt(rho2) * np.float32(1 + 1e-5) + np.float32(1e-5 * size)
-    out = []
-    for a in angles:  # over planes
-        d = cx * np.float32(math.sin(a))
-        d -= cy * np.float32(math.cos(a))
-        np.abs(d, out=d)
-        out.append(np.flatnonzero(d <= rho))
-    return out
+_FRAGMENTS = 3            # shells (each over 0.5 % of the area) that make a mesh a reassembled vessel
+_GAP = 2.0                # mm: gaps between reassembled fragments up to this are bridged
 
 
 @dataclass(frozen=True, eq=False)
@@ -237,6 +61,11 @@ class Profile:
     sealed : bool
         No mouth: the capacity is the volume of the mesh's inner cavity shell
         (`slicelab.artefacts.cavities.cavity_volume`).
+    capacity_refused : str
+        Why the capacity is NaN though the vessel is whole ('' when it is not refused): an open scan
+        whose openings are not at the rim (a broken rim, a hole).
+    fragments : int
+        For a vessel reassembled from fragments (`fragmentary`): the shells it holds; else 0.
 
     See Also
     --------
@@ -256,6 +85,70 @@ class Profile:
     max_radii: np.ndarray = field(default_factory=lambda: np.zeros(0), repr=False)
     closed_gap: float = 0.0
     sealed: bool = False
+    capacity_refused: str = ""
+    fragments: int = 0
+
+    @property
+    def fragmentary(self) -> bool:
+        """A vessel reassembled from fragments with gaps (three or more shells, each over 0.5 % of
+        the area): drawn and measured on the union of its sections, only where preserved."""
+        return self.fragments >= 3
+
+    @property
+    def rim_fraction(self) -> float:
+        """Share of the rim circle kept (the EVE): a sherd's, a reassembled vessel's lip's arc, 1 for a
+        whole vessel (NaN without a rim).
+
+        Examples
+        --------
+        >>> from slicelab.samples import pot
+        >>> profile(pot(20, 24), planes=2).rim_fraction
+        1.0
+        """
+        if self.sherd is not None:
+            return self.sherd.rim_fraction if self.sherd.kind == "rim" else float("nan")
+        if not self.fragmentary:
+            return 1.0
+        if self.mesh is None or not math.isfinite(self.measurements.rim_diameter):
+            return float("nan")
+        from .lips import lip_arc
+        top = float(self.drawn.polygon[:, 1].max())
+        t = self.measurements.wall_thickness_mean
+        arc, _ = lip_arc(self.mesh.triangles, top, t if math.isfinite(t) else 4.0, self.measurements.noise,
+                         total=True)
+        return arc / (2 * math.pi) if math.isfinite(arc) else float("nan")
+
+    @property
+    def warnings(self) -> list:
+        """(code, sentence) for each judgement of this profile a lab should check before trusting it:
+        a sherd's (`slicelab.artefacts.sherds.SherdReport.cautions`: ``kind_uncertain``,
+        ``up_uncertain``, ``axis_uncertain``, ``rim_uncertain``, ``base_uncertain``),
+        ``noise_uncertain`` (`slicelab.artefacts.Alignment.noise_uncertain`), ``fragmentary`` and
+        ``capacity_uncertain`` (`capacity_refused`).
+
+        Examples
+        --------
+        >>> from slicelab.samples import pot
+        >>> profile(pot(20, 24), planes=2).warnings
+        []
+        """
+        out = []
+        if self.sherd is not None:
+            out += self.sherd.cautions()
+        a = self.alignment
+        if a is not None and a.noise_uncertain:
+            out.append(("noise_uncertain", f"the noise estimate is uncertain ({a.noise:.2f} +- {a.noise_sd:.2f} mm): "
+                                           f"the outlines were smoothed by it, and the base and wall may be off"))
+        if self.fragmentary:
+            m = self.measurements
+            gone = [n for n, v in (("height", m.height), ("rim diameter", m.rim_diameter),
+                                   ("base diameter", m.base_diameter), ("capacity", m.capacity)) if not math.isfinite(v)]
+            out.append(("fragmentary", f"a vessel reassembled from {self.fragments} fragments with gaps: drawn and "
+                                       f"measured on the union of its sections, only where preserved"
+                        + (f"; not preserved: {', '.join(gone)}" if gone else "")))
+        if self.capacity_refused:
+            out.append(("capacity_uncertain", f"no capacity: {self.capacity_refused}"))
+        return out
 
     @property
     def is_revolution(self) -> bool:
@@ -462,23 +355,34 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
         alignment = axis.align(mesh)
         mesh = alignment.mesh
     if alignment is not None and alignment.sherd is not None:
-        return _sherd_profile(mesh, alignment, planes, max_gap, name)
+        halves, rep, spread, m = sherd_profile(mesh, alignment, planes, max_gap)
+        return Profile(tuple(halves), rep, spread, m, alignment, planes, name, mesh)
     angles = [math.pi * k / planes for k in range(planes)]
-    cands = _candidates(mesh, angles)
+    cands = plane_candidates(mesh, angles)
+    z = mesh.triangles[..., 2]
+    height = float(z.max() - z.min())
+    residual = alignment.residual if alignment is not None else float("nan")
+    fragments = shell_count(mesh)
+    if fragments >= _FRAGMENTS:
+        return _fragmentary(mesh, alignment, planes, name, angles, cands, max_gap, fragments)
     halves: list[HalfProfile] = []
     for a, cand in zip(angles, cands):  # over planes
         halves += half_profiles(mesh, a, max_gap=max_gap, candidates=cand)
     closed_gap = 0.0
+    refused = ""
     if not halves:
         # An open scan (the rim top not captured): every section is open. Close them across the
         # gap most planes need, if it is small beside the vessel; the report says so (`closed_gap`).
         gap, low = closing_gap(mesh, angles, cands, lowest=True)
-        z = mesh.triangles[..., 2]
-        size = max(float(z.max() - z.min()), float(np.abs(mesh.triangles[..., :2]).max()))
-        # The openings must be at the rim, and the rim known to be up by the base, not by the openings.
-        at_rim = low >= float(z.max()) - max(2 * gap, 0.05 * float(z.max() - z.min())) and \
+        size = max(height, float(np.abs(mesh.triangles[..., :2]).max()))
+        # The openings must be at the rim, and the rim known to be up by the base, not by the openings;
+        # else (a broken rim, a hole in the upper half) the sections are closed all the same, and the
+        # capacity refused.
+        at_rim = low >= float(z.max()) - max(2 * gap, 0.05 * height) and \
             (alignment is None or alignment.up_from == "base")
-        if not math.isfinite(gap) or gap > _MAX_CLOSING * size or not at_rim:
+        # Openings low on the vessel in most planes (its base missing, or cut away) leave no profile.
+        _, typical = closing_gap(mesh, angles, cands, lowest="median")
+        if not math.isfinite(gap) or gap > _MAX_CLOSING * size or typical < float(z.min()) + 0.5 * height:
             hint = f"; --max-gap {math.ceil(_CLOSING_MARGIN * gap * 10) / 10:g} would close them" \
                 if math.isfinite(gap) else ""
             raise ValueError(f"no plane through the axis gave a closed section (is the mesh aligned and closed?)"
@@ -489,11 +393,16 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
         if not halves:
             raise ValueError(f"no plane through the axis gave a closed section, even across gaps of "
                              f"{closed_gap:g} mm")
+        # A plane through a hole closes into a stub: its top far under the others'. Left out.
+        tops = np.array([float(h.polygon[:, 1].max()) for h in halves])
+        keep = tops >= float(np.median(tops)) - max(2 * closed_gap, 0.05 * height)
+        halves = [h for h, k in zip(halves, keep) if k] or halves
+        if not at_rim:
+            refused = (f"the scan is open below its rim (a broken rim or a hole, its lowest opening "
+                       f"{float(z.max()) - low:.0f} mm under the top): the sections were closed across "
+                       f"{closed_gap:g} mm, and no level to fill to can be trusted")
     halves.sort(key=lambda h: h.angle)
-    z = mesh.triangles[..., 2]
-    height = float(z.max() - z.min())
-    rep, spread = _representative(halves, height)
-    residual = alignment.residual if alignment is not None else float("nan")
+    rep, spread = representative(halves, height)
     outs, noise = half_outlines(halves, height, alignment.noise if alignment is not None else None)
     m = measure_halves(halves, height, float(spread.max()), residual, noise, outs)
     sealed = False
@@ -502,94 +411,39 @@ def profile(mesh: Mesh, *, planes: int = 12, align: bool = True, max_gap: float 
         void = cavity_volume(mesh)
         if void > max(m.capacity, 0.0):
             m, sealed = replace(m, capacity=void), True
+    if refused:
+        m = replace(m, capacity=float("nan"))
     return Profile(tuple(halves), rep, spread, m, alignment, planes, name, mesh,
-                   np.array([o.z_top for o in outs]), np.array([o.max_r for o in outs]), closed_gap, sealed)
+                   np.array([o.z_top for o in outs]), np.array([o.max_r for o in outs]), closed_gap, sealed,
+                   capacity_refused=refused)
 
 
-def closing_gap(mesh: Mesh, angles, candidates=None, *, lowest: bool = False):
-    """The `max_gap` (mm) that closes the sections of an open scan through the axis at `angles`.
-
-    Per plane, each open chain's end is paired with the nearest chain start
-    (the way `slicelab.section` joins them, nearest first); the plane needs the
-    largest of those distances. The answer is the median over the planes
-    whose sections are open (a hole in the wall opens a few planes only, an
-    uncaptured rim all of them); infinite when none is open. With
-    ``lowest=True``, also the height of the lowest open end (where the scan
-    is open: at the rim, or lower).
-
-    Examples
-    --------
-    >>> from slicelab.samples import scan
-    >>> mesh, _ = scan("beaker", spacing=2.0, pose=False, open_rim=True)
-    >>> round(closing_gap(mesh, [0.0, 1.0]), 1)  # the rim top, 3 mm wide, was not captured
-    3.0
-    """
-    from scipy.spatial import cKDTree
-    need, low = [], math.inf
-    for k, a in enumerate(angles):  # a few planes
-        c, s = math.cos(a), math.sin(a)
-        sub = mesh if candidates is None else Mesh(mesh.triangles[candidates[k]])
-        sec = section(sub, (0.0, 0.0, 0.0), (s, -c, 0.0), max_gap=0.0)
-        if not sec.open_chains:
-            continue
-        ends = np.array([ch[-1] for ch in sec.open_chains])
-        starts = np.array([ch[0] for ch in sec.open_chains])
-        need.append(float(cKDTree(starts).query(ends)[0].max()))
-        low = min(low, float(ends[:, 1].min()), float(starts[:, 1].min()))
-    gap = float(np.median(need)) if need else math.inf
-    return (gap, low) if lowest else gap
-
-
-def _sherd_profile(mesh: Mesh, alignment, planes: int, max_gap: float, name: str) -> Profile:
-    """A sherd's profile: `planes` sections across its span, the drawn one the medoid; what the
-    sherd holds is measured (its rim or base, its wall), the rest is NaN."""
-    from ..mesh.validation import signed_volume
-    from .sherds import sherd_interval, sherd_wall
-    start, width = sherd_interval(mesh.triangles.reshape(-1, 3))
-    angles = start + width * (np.arange(planes) + 0.5) / planes
-    halves = []
-    for a in angles:  # over planes
-        halves += [h for h in half_profiles(mesh, float(a), max_gap=max_gap)
-                   if abs((h.angle - a + math.pi) % (2 * math.pi) - math.pi) < 1e-6]
-    if not halves:
-        raise ValueError("no plane through the axis gave a closed section of the sherd (is it closed?)")
+def _fragmentary(mesh: Mesh, alignment, planes: int, name: str, angles, cands, max_gap: float,
+                 fragments: int) -> Profile:
+    """A vessel reassembled from fragments: measured on the union of its sections (`composite_half`),
+    closed across gaps up to 2 mm; where that union does not reach the axis or the top, the numbers
+    that need them (capacity, height, base thickness) are NaN."""
+    half, share = composite_half(mesh, angles, cands, max_gap, bridge=_GAP)
+    if half is None:
+        raise ValueError("no plane through the axis crossed a closed fragment (are the fragments closed?)")
     z = mesh.triangles[..., 2]
-    rep, spread = _representative(halves, float(z.max() - z.min()))
-    report = alignment.sherd
-    walls = [sherd_wall(h.polygon) for h in halves]
-    walls = [w for w in walls if len(w)]
+    height = float(z.max() - z.min())
+    noise = alignment.noise if alignment is not None else None
+    outs, noise = half_outlines([half], height, noise)
+    residual = alignment.residual if alignment is not None else float("nan")
+    m = measure_halves([half], height, 0.0, residual, noise, outs)
+    reaches_axis = float(half.polygon[:, 0].min()) <= 1e-6
+    reaches_top = float(half.polygon[:, 1].max()) >= float(z.max()) - max(2.0, 0.02 * height)
+    reaches_foot = float(half.polygon[:, 1].min()) <= float(z.min()) + max(2.0, 0.02 * height)
     nan = float("nan")
-
-    def med(x):
-        return float(np.median(x)) if len(x) else nan
-
-    m = Measurements(
-        height=nan, rim_diameter=report.rim_diameter, max_diameter=nan, max_diameter_height=nan,
-        base_diameter=report.base_diameter, wall_thickness_min=med([w.min() for w in walls]),
-        wall_thickness_mean=med([w.mean() for w in walls]), wall_thickness_max=med([w.max() for w in walls]),
-        base_thickness=nan, capacity=nan, clay_volume=abs(signed_volume(mesh.triangles)), halves=len(halves),
-        spread=float(spread.max()), residual=alignment.residual, noise=alignment.noise)
-    return Profile(tuple(halves), rep, spread, m, alignment, planes, name, mesh)
+    m = replace(m, fragmentary=True,
+                capacity=m.capacity if reaches_axis and reaches_top else nan,
+                base_thickness=m.base_thickness if reaches_axis else nan,
+                height=m.height if reaches_top and reaches_foot else nan,
+                rim_diameter=m.rim_diameter if reaches_top else nan,
+                base_diameter=m.base_diameter if reaches_foot else nan)
+    return Profile((half,), 0, np.zeros(1), m, alignment, planes, name, mesh,
+                   np.array([o.z_top for o in outs]), np.array([o.max_r for o in outs]), 0.0, False,
+                   fragments=fragments)
 
 
-def _representative(halves: list[HalfProfile], height: float):
-    """Medoid half (least mean RMS distance to the others) and each half's Hausdorff distance to it."""
-    from scipy.spatial import cKDTree
-    if len(halves) == 1:
-        return 0, np.zeros(1)
-    coarse = [resample(np.vstack([h.polygon, h.polygon[:1]]), max(height, 1e-9) / 100)[0] for h in halves]
-    trees = {i: cKDTree(p) for i, p in enumerate(coarse)}
-    n = len(halves)
-    rms = np.zeros((n, n))
-    for i in range(n):  # tens of halves: a few hundred small queries
-        for j in range(i + 1, n):
-            rms[i, j] = rms[j, i] = _rms_distance(coarse[i], coarse[j], trees[i], trees[j])
-    rep = int(np.argmin(rms.sum(axis=1)))
-    fine = [resample(np.vstack([h.polygon, h.polygon[:1]]), max(height, 1e-9) / 1000)[0] for h in halves]
-    tree_rep = cKDTree(fine[rep])
-
-    def hausdorff(j):
-        return max(float(tree_rep.query(fine[j])[0].max()), float(cKDTree(fine[j]).query(fine[rep])[0].max()))
-
-    spread = np.array([0.0 if j == rep else hausdorff(j) for j in range(n)])
-    return rep, spread

@@ -8,8 +8,10 @@ axis, z up, the base standing on z = 0:
 * the interior, from the inner edge of the rim down the inner wall and along
   the floor to the axis.
 
-A flat land at the rim height joins them. `vessel_mesh` revolves the closed
-profile at a chosen vertex spacing (a scanner's density is about 0.3 mm),
+A land at the rim height joins them. The lip is square-cut (a flat land,
+sharp corners), rounded, bevelled or everted (`LIPS`, `vessel_outlines`).
+`vessel_mesh` revolves the closed profile at a chosen vertex spacing (a
+scanner's density is about 0.3 mm) or a chosen number of steps round the axis,
 `vessel_truth` measures the continuous outlines (the answer a measurement
 must give), `handle_mesh` makes the jug's handle: an oval tube swept along a
 D-shaped centre line whose ends are buried in the wall.
@@ -19,7 +21,11 @@ diameter is the footprint's (what touches the plane under the vessel); the
 wall thickness is the perpendicular distance from the interior to the
 exterior, averaged along the interior (arc length), leaving out the base
 (the floor over the footprint) and a band one wall thickness deep
-below the rim top; the capacity is the cavity filled to the rim.
+below the rim top; the capacity is the cavity filled to the rim; the rim
+diameter is twice the radius at which the exterior wall, continued up past
+the lip's rounding or bevel, meets the plane of the lip's crest (its highest
+level): the outer edge of a square-cut lip, what a rim chart reads off the
+outer face of the others.
 """
 from __future__ import annotations
 
@@ -29,11 +35,14 @@ import numpy as np
 
 from .solids import POT
 
-__all__ = ["FORMS", "vessel_outlines", "vessel_profile", "vessel_mesh", "vessel_truth", "handle_mesh",
-           "handle_truth", "sealed_vessel", "wall_thickness_samples", "FLOOR_COSINE"]
+__all__ = ["FORMS", "LIPS", "vessel_outlines", "lip_parts", "vessel_profile", "vessel_mesh", "vessel_truth",
+           "handle_mesh", "handle_truth", "sealed_vessel", "wall_thickness_samples", "FLOOR_COSINE"]
 
 #: The vessel forms, tall to shallow; the jug is the pot-like body with a handle on its +x side.
 FORMS = ("pot", "beaker", "bowl", "plate", "jug")
+#: Lip shapes: square-cut (a flat land, sharp corners), rounded, bevelled (sloping down inwards), everted
+#: (the top of the wall flares out, the lip rounded).
+LIPS = ("flat", "rounded", "bevelled", "everted")
 
 _STEP = 0.02  # mm between the points of the dense (true) outlines
 #: The floor faces up: its outward normal is within 45 degrees of +z.
@@ -84,7 +93,103 @@ def _offset_form(r_base, rim_r, H, a, wall, base):
     return outer, np.vstack([inner, _segment(inner[-1], (0.0, base))[1:]])
 
 
-def vessel_outlines(form: str):
+def _form_outlines(form: str, wall: float | None = None):
+    """The square-cut outlines of a form (the wall's horizontal or perpendicular thickness `wall` if given)."""
+    if form in ("pot", "jug"):
+        d = POT if form == "pot" else _JUG
+        t = d["wall"] if wall is None else wall
+        return _height_form(d["R0"], d["A"], d["L"], d["height"], t, max(d["base"], t))
+    if form == "beaker":
+        t = 3.0 if wall is None else wall
+        return _height_form(33.0, 7.0, None, 100.0, t, max(5.0, t), power=1.5)
+    if form == "bowl":
+        t = 5.0 if wall is None else wall
+        return _offset_form(28.0, 80.0, 48.0, 0.45, t, max(6.0, t))
+    if form == "plate":
+        t = 4.5 if wall is None else wall
+        return _offset_form(70.0, 120.0, 20.0, 0.55, t, max(5.0, t))
+    raise ValueError(f"unknown vessel form {form!r}; choose one of {', '.join(FORMS)}")
+
+
+def _evert(outer: np.ndarray, inner: np.ndarray):
+    """Both walls flared out over their top E = min(15, 0.3 H) mm: r grows by 0.35 E s^2, s = (z - H + E) / E."""
+    H = float(outer[-1, 1])
+    E = min(15.0, 0.3 * H)
+
+    def flare(c):
+        s = np.clip((c[:, 1] - (H - E)) / E, 0.0, None)
+        return np.column_stack([c[:, 0] + 0.35 * E * s * s, c[:, 1]])
+
+    return flare(outer), flare(inner)
+
+
+def _left(chain: np.ndarray) -> np.ndarray:
+    """Unit left normals of a polyline (the material's side of a counter-clockwise ring)."""
+    d = np.gradient(chain, axis=0)
+    d /= np.hypot(d[:, 0], d[:, 1])[:, None]
+    return np.column_stack([-d[:, 1], d[:, 0]])
+
+
+def _fillet(chain: np.ndarray, top: float, tangent: float, at_end: bool):
+    """Round the corner between a wall `chain` and the level land z = `top` it meets at its first (or,
+    `at_end`, its last) point: a circle tangent to both, touching the land `tangent` mm from the corner.
+
+    Returns the chain with the arc in place of the corner (the arc's land point as its new end) and
+    the index where the arc begins (`at_end`) or ends."""
+    walk = chain[::-1] if at_end else chain  # from the corner along the wall
+    corner = walk[0]
+    near = walk[np.hypot(*(walk - corner).T) <= 3 * tangent]
+    d = near[min(len(near) - 1, 5)] - corner
+    d /= math.hypot(*d)
+    land = np.array([-1.0, 0.0]) if at_end else np.array([1.0, 0.0])  # from the corner along the land
+    theta = math.acos(float(np.clip(d @ land, -1.0, 1.0)))
+    rho = tangent * math.tan(theta / 2)
+    # The circle's centre lies rho inside the wall (its offset curve) and rho under the land.
+    off = walk + rho * (_left(walk) * (-1 if at_end else 1))
+    k = int(np.argmax(off[:, 1] <= top - rho))
+    f = (off[k - 1, 1] - (top - rho)) / (off[k - 1, 1] - off[k, 1])
+    centre = off[k - 1] + f * (off[k] - off[k - 1])
+    touch = walk[k - 1] + f * (walk[k] - walk[k - 1])
+    a0 = math.atan2(touch[1] - centre[1], touch[0] - centre[0])
+    a1 = math.pi / 2
+    if at_end:  # the exterior: counter-clockwise from the wall up to the land
+        a0 = a0 if a0 <= a1 else a0 - 2 * math.pi
+    else:       # the interior: counter-clockwise from the land down to the wall
+        a0 = a0 if a0 >= a1 else a0 + 2 * math.pi
+    n = max(3, int(math.ceil(rho * abs(a1 - a0) / _STEP)) + 1)
+    t = np.linspace(a0, a1, n)
+    arc = centre + rho * np.column_stack([np.cos(t), np.sin(t)])
+    kept = walk[k:][::-1] if at_end else walk[k:]
+    if at_end:
+        return np.vstack([kept, arc]), len(kept) - 1
+    return np.vstack([arc[::-1], kept]), n - 1
+
+
+def _shaped(form: str, lip: str = "flat", wall: float | None = None):
+    """Outlines with the lip shaped, the indices where the lip begins on each, and the rim's true radius."""
+    if lip not in LIPS:
+        raise ValueError(f"unknown lip {lip!r}; choose one of {', '.join(LIPS)}")
+    outer, inner = _form_outlines(form, wall)
+    if lip == "everted":
+        outer, inner = _evert(outer, inner)
+    rim_r = float(outer[-1, 0])
+    H = float(outer[-1, 1])
+    w = float(outer[-1, 0] - inner[0, 0])  # the land's width
+    k_out, k_in = len(outer) - 1, 0
+    if lip in ("rounded", "everted"):
+        outer, k_out = _fillet(outer, H, 0.45 * w, True)
+        inner, k_in = _fillet(inner, H, 0.45 * w, False)
+    elif lip == "bevelled":
+        # The top slopes down inwards from the outer edge to 0.6 wall thicknesses under it.
+        t = float(np.hypot(*(outer - inner[0]).T).min())
+        k = int(np.argmax(inner[:, 1] <= H - 0.6 * t))
+        f = (inner[k - 1, 1] - (H - 0.6 * t)) / (inner[k - 1, 1] - inner[k, 1])
+        start = inner[k - 1] + f * (inner[k] - inner[k - 1])
+        inner = np.vstack([start, inner[k:] if f < 1 - 1e-9 else inner[k + 1:]])
+    return outer, inner, k_out, k_in, rim_r
+
+
+def vessel_outlines(form: str, lip: str = "flat", wall: float | None = None):
     """Dense exterior and interior outlines of a vessel form, in (r, z), 0.02 mm apart.
 
     Parameters
@@ -96,35 +201,65 @@ def vessel_outlines(form: str):
         plate 20 mm tall with a 240 mm rim (its wall leaves the base at 12
         degrees); the jug is a 125 mm body with a narrow neck (its handle
         is `handle_mesh`).
+    lip : {"flat", "rounded", "bevelled", "everted"}
+        The lip's shape (`LIPS`): a flat land with sharp corners; both corners
+        rounded (circles touching the land 0.45 of its width from each
+        edge); the top sloping down inwards from the outer edge to 0.6 wall
+        thicknesses under it; the top E = min(15, 0.3 H) mm of the wall flared
+        out by up to 0.35 E (the lip then rounded). The crest stays at the
+        form's height.
+    wall : float, optional
+        The wall's thickness instead of the form's (horizontal for the pot,
+        jug and beaker, perpendicular for the bowl and plate); the base is
+        at least as thick.
 
     Returns
     -------
     outer : (n, 2) ndarray
-        From (0, 0) along the underside and up to the outer edge of the rim.
+        From (0, 0) along the underside and up to the outer end of the lip's crest.
     inner : (m, 2) ndarray
-        From the inner edge of the rim down to the floor's centre on the axis.
+        From the inner end of the crest (of the bevel, for a bevelled lip) down to the floor's centre.
 
     See Also
     --------
-    vessel_profile, vessel_truth
+    vessel_profile, vessel_truth, lip_parts
 
     Examples
     --------
     >>> outer, inner = vessel_outlines("plate")
     >>> outer[-1].tolist(), inner[-1].tolist()
     ([120.0, 20.0], [0.0, 5.0])
+    >>> outer, inner = vessel_outlines("beaker", "rounded")
+    >>> round(float(outer[:, 1].max()), 9), bool(outer[-1, 0] < 40.0 - 1.0)
+    (100.0, True)
     """
-    if form == "pot":
-        return _height_form(POT["R0"], POT["A"], POT["L"], POT["height"], POT["wall"], POT["base"])
-    if form == "jug":
-        return _height_form(_JUG["R0"], _JUG["A"], _JUG["L"], _JUG["height"], _JUG["wall"], _JUG["base"])
-    if form == "beaker":
-        return _height_form(33.0, 7.0, None, 100.0, 3.0, 5.0, power=1.5)
-    if form == "bowl":
-        return _offset_form(28.0, 80.0, 48.0, 0.45, 5.0, 6.0)
-    if form == "plate":
-        return _offset_form(70.0, 120.0, 20.0, 0.55, 4.5, 5.0)
-    raise ValueError(f"unknown vessel form {form!r}; choose one of {', '.join(FORMS)}")
+    outer, inner, _, _, _ = _shaped(form, lip, wall)
+    return outer, inner
+
+
+def lip_parts(form: str, lip: str = "flat", wall: float | None = None):
+    """A form's outlines cut where the lip's shaping begins: the walls below it and the lip between.
+
+    Returns
+    -------
+    outer_wall : (n, 2) ndarray
+        From (0, 0) up the exterior to where the lip begins.
+    cap : (k, 2) ndarray
+        The lip, from the interior's end up over the crest down to the exterior's.
+    inner_wall : (m, 2) ndarray
+        From the floor's centre (0, base) up the interior to where the lip begins.
+    rim_r : float
+        The rim's true radius (see `vessel_truth`).
+
+    Examples
+    --------
+    >>> ow, cap, iw, r = lip_parts("beaker", "rounded")
+    >>> bool(np.allclose(cap[0], iw[-1]) and np.allclose(cap[-1], ow[-1])), round(float(cap[:, 1].max()), 6), r
+    (True, 100.0, 40.0)
+    """
+    outer, inner, k_out, k_in, rim_r = _shaped(form, lip, wall)
+    cap = np.vstack([inner[:k_in + 1][::-1], outer[k_out:][::-1]])
+    return outer[:k_out + 1], cap, inner[k_in:][::-1], rim_r
 
 
 def _resample(chain: np.ndarray, spacing: float) -> np.ndarray:
@@ -143,8 +278,10 @@ def _resample(chain: np.ndarray, spacing: float) -> np.ndarray:
     return np.vstack([*out, chain[-1:]])
 
 
-def vessel_profile(form: str, spacing: float = 0.3) -> np.ndarray:
+def vessel_profile(form: str, spacing: float = 0.3, lip: str = "flat", wall: float | None = None) -> np.ndarray:
     """The closed profile, axis to axis, with points at most `spacing` apart (corners kept).
+
+    `lip` and `wall` as in `vessel_outlines`.
 
     Examples
     --------
@@ -152,7 +289,7 @@ def vessel_profile(form: str, spacing: float = 0.3) -> np.ndarray:
     >>> p[0].tolist(), p[-1].tolist(), bool(np.hypot(*np.diff(p, axis=0).T).max() <= 2.0)
     ([0.0, 0.0], [0.0, 5.0], True)
     """
-    outer, inner = vessel_outlines(form)
+    outer, inner = vessel_outlines(form, lip, wall)
     return _resample(np.vstack([outer, inner]), spacing)
 
 
@@ -270,22 +407,25 @@ def sealed_vessel(form: str = "pot", lid: float = 4.0, spacing: float = 1.5, n_t
     return type(body)(np.concatenate([body.triangles, void.triangles[:, ::-1]])), capacity
 
 
-def _revolve_even(profile: np.ndarray, spacing: float):
+def _revolve_even(profile: np.ndarray, spacing: float, steps: int | None = None):
     """Revolve an axis-to-axis profile with about `spacing` between vertices everywhere.
 
     Each ring of the profile gets a power-of-two share of the widest ring's
-    vertices (at least 8), so that its vertices stay about `spacing` apart
-    near the axis too, as a scanner's would; neighbouring rings differ by a
-    factor of two at most, and such a pair is joined by three triangles per
-    segment of the smaller ring. The poles are fans.
+    vertices (`steps`, or as many as keep them `spacing` apart; at least 8), so
+    that its vertices stay about `spacing` apart near the axis too, as a
+    scanner's would; neighbouring rings differ by a factor of two at most, and
+    such a pair is joined by three triangles per segment of the smaller ring.
+    The poles are fans.
     """
     ring_pts = profile[1:-1]
     r = ring_pts[:, 0]
-    n_full = max(16, int(math.ceil(2 * math.pi * float(r.max()) / spacing / 8)) * 8)
+    n_full = max(16, int(math.ceil(2 * math.pi * float(r.max()) / spacing / 8)) * 8) if steps is None \
+        else int(steps)
     levels = int(math.log2(n_full // 8)) if n_full >= 16 else 0
     while n_full % (2 ** levels):
         levels -= 1
-    want = np.floor(np.log2(np.maximum(n_full * spacing / (2 * np.pi * np.maximum(r, 1e-12)), 1.0)))
+    fill = n_full * spacing / (2 * np.pi * np.maximum(r, 1e-12)) if steps is None else float(r.max()) / np.maximum(r, 1e-12)
+    want = np.floor(np.log2(np.maximum(fill, 1.0)))
     h = np.clip(want, 0, levels).astype(np.int64)
     idx = np.arange(len(h))
     h = np.minimum(h, np.minimum.accumulate(h - idx) + idx)  # neighbours one halving apart at most:
@@ -322,12 +462,26 @@ def _revolve_even(profile: np.ndarray, spacing: float):
     return vertices, np.concatenate(faces).astype(np.int64)
 
 
-def vessel_mesh(form: str, spacing: float = 0.3):
+def vessel_mesh(form: str, spacing: float = 0.3, *, steps: int | None = None, lip: str = "flat",
+                wall: float | None = None):
     """Vertices and faces of a vessel form revolved with about `spacing` mm between vertices.
 
     The spacing holds everywhere, near the axis too (`_revolve_even`: rings
     near the axis get fewer vertices); the jug's handle (`handle_mesh`) is
     added as a second shell.
+
+    Parameters
+    ----------
+    form : str
+        One of `FORMS`.
+    spacing : float
+        Most distance (mm) between neighbouring vertices along the profile, and round the axis
+        unless `steps` is given.
+    steps : int, optional
+        Vertices round the axis on the widest rings (decimated and older laser scans have
+        180-240), whatever `spacing` is: the facets are then long and narrow.
+    lip, wall
+        As in `vessel_outlines`.
 
     Returns
     -------
@@ -345,9 +499,14 @@ def vessel_mesh(form: str, spacing: float = 0.3):
     >>> v, f = vessel_mesh("plate", 4.0)
     >>> r = check(Mesh.from_vertices_faces(v, f)); r.watertight, round(float(v[:, 2].max()), 6)
     (True, 20.0)
+    >>> v, f = vessel_mesh("bowl", 1.0, steps=180, lip="rounded")
+    >>> check(Mesh.from_vertices_faces(v, f)).watertight, len(np.unique(np.round(np.arctan2(v[:, 1], v[:, 0]), 9)))
+    (True, 180)
     """
     from ..mesh.validation import signed_volume
-    v, f = _revolve_even(vessel_profile(form, spacing), spacing)
+    if steps is not None and steps < 8:
+        raise ValueError(f"a vessel needs 8 steps round its axis at least, got {steps}")
+    v, f = _revolve_even(vessel_profile(form, spacing, lip, wall), spacing, steps)
     if signed_volume(v[f]) < 0:
         f = f[:, ::-1]
     if form == "jug":
@@ -397,32 +556,42 @@ def wall_thickness_samples(outer: np.ndarray, inner: np.ndarray, footprint_r: fl
     return d[keep], w[keep]
 
 
-def vessel_truth(form: str) -> dict:
+def vessel_truth(form: str, lip: str = "flat", wall: float | None = None) -> dict:
     """True dimensions of a vessel form (mm, mm^3), from its dense outlines.
+
+    Parameters
+    ----------
+    form, lip, wall
+        As in `vessel_outlines`.
 
     Returns
     -------
     dict
-        ``height``, ``rim_diameter`` (outer edge of the rim), ``max_diameter``
-        (the body's; the jug's handle left out), ``base_diameter`` (the
-        footprint), ``wall`` (mean perpendicular wall thickness, see
-        `wall_thickness_samples`), ``wall_min``, ``wall_max``, ``capacity``
-        (filled to the rim, Pappus' theorem on the cavity).
+        ``height`` (to the lip's crest), ``rim_diameter`` (twice the radius at
+        which the exterior wall, continued up past the lip's rounding or
+        bevel, meets the crest's plane: the outer edge of a square-cut lip),
+        ``max_diameter`` (the body's; the jug's handle left out),
+        ``base_diameter`` (the footprint), ``wall`` (mean perpendicular wall
+        thickness, see `wall_thickness_samples`), ``wall_min``, ``wall_max``,
+        ``capacity`` (filled to the crest, Pappus' theorem on the cavity).
 
     Examples
     --------
     >>> t = vessel_truth("pot")
     >>> round(t["max_diameter"], 3), round(t["base_diameter"], 3), round(t["capacity"] / 1e6, 4)
     (124.0, 60.0, 0.9211)
+    >>> t = vessel_truth("pot", "everted")
+    >>> round(t["rim_diameter"], 3), t["height"]
+    (108.118, 120.0)
     """
-    outer, inner = vessel_outlines(form)
+    outer, inner, _, _, rim_r = _shaped(form, lip, wall)
     H = float(outer[-1, 1])
     foot = float(outer[outer[:, 1] <= 0.0, 0].max())
     t, w = wall_thickness_samples(outer, inner, foot, H)
-    cavity = np.vstack([inner, [[0.0, H]]])
+    cavity = np.vstack([outer[-1:], inner, [[0.0, H]]])  # the crest's outer end, down the interior, the axis
     r, z = cavity[:, 0], cavity[:, 1] - cavity[:, 1].mean()
     r1, z1 = np.roll(r, -1), np.roll(z, -1)
     capacity = abs(float(2 * np.pi * ((r + r1) * (r * z1 - r1 * z)).sum() / 6.0))
-    return {"height": H, "rim_diameter": 2 * float(outer[-1, 0]), "max_diameter": 2 * float(outer[:, 0].max()),
+    return {"height": H, "rim_diameter": 2 * rim_r, "max_diameter": 2 * float(outer[:, 0].max()),
             "base_diameter": 2 * foot, "wall": float((t * w).sum() / w.sum()), "wall_min": float(t.min()),
             "wall_max": float(t.max()), "capacity": capacity}

@@ -276,8 +276,11 @@ def _eve(pr) -> dict:
                "base_eve": 1.0, "rim_diameter_sd": None, "axis_trusted": pr.is_revolution, "axis_spread": None}
     else:
         base = got(sherd, "base_fraction")
-        eve = {"kind": sherd.kind, "rim_eve": got(sherd, "rim_fraction") if sherd.kind == "rim" else None,
-               "base_eve": base if sherd.kind == "base" else None, "rim_diameter_sd": got(sherd, "rim_diameter_sd"),
+        # A piece whose kind is uncertain adds nothing to a lab's EVE totals (a body or base sherd
+        # taken for a rim would): its rim EVE stays in its report and drawing, with the warning.
+        sure = "kind_uncertain" not in getattr(sherd, "warnings", ())
+        eve = {"kind": sherd.kind, "rim_eve": got(sherd, "rim_fraction") if sherd.kind == "rim" and sure else None,
+               "base_eve": base if sherd.kind == "base" and sure else None, "rim_diameter_sd": got(sherd, "rim_diameter_sd"),
                "axis_trusted": bool(sherd.axis_trusted), "axis_spread": got(sherd, "axis_spread")}
     cue = sherd if sherd is not None else pr.alignment
     eve.update(up_confidence=got(cue, "up_confidence"), kind_confidence=got(cue, "kind_confidence"),
@@ -315,6 +318,11 @@ def _profile_report(pr, inp, p):
     elif a is not None and a.up_from == "centre of mass":
         reasons.append(reason("upside_down_risk", "neither a base crossing the axis nor an open rim was found: "
                                                   "up was taken from the centre of mass"))
+    elif a is not None and a.up_from == "open boundary":
+        # No base crossing the axis: the opening taken for the rim may as well be a break below (a ring
+        # of wall broken off under a whole lip), and the drawing would stand on its head.
+        reasons.append(reason("upside_down_risk", "no base crossing the axis was found: up was taken from the "
+                                                  "open boundary, which may be a break rather than the rim"))
     angle, parts = pr.appendage_angle, pr.appendages
     if angle is not None or parts:
         where = f"at {angle:.0f} degrees about the axis " if angle is not None else ""
