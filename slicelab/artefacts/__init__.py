@@ -15,9 +15,11 @@
 ``artefacts.partial``       profiles of sherds, open scans, reassembled fragments
 ``artefacts.profiles``      `profile`, `Profile`
 ``artefacts.measure``       `Measurements`, `measure_halves`, Pappus volumes
+``artefacts.curves``        `clip_ring`, `resample`: plain curve tools beneath the rest
 ``artefacts.appendages``    handles, spouts and lugs found and measured
 ``artefacts.cavities``      a sealed vessel's cavity shell and its volume
-``artefacts.drawing``       the profile drawing (layout, SVG); PNG in `slicelab.viz`
+``artefacts.drawing``       the profile drawing (layout, SVG)
+``artefacts.drawing_png``   the same drawing as a PNG (matplotlib)
 ==========================  =====================================================
 """
 from __future__ import annotations
@@ -25,7 +27,7 @@ from __future__ import annotations
 from .._lazy import attach
 
 # Submodule of each public name: they load on first use (matplotlib and the like are slow to import).
-_WHERE = {"Alignment": "axis", "align": "axis", "rotation_to_z": "axis_fit", "surface_moments": "axis_fit", "principal_axis": "axis_fit", "normal_lines_axis": "axis_fit", "refine_axis": "axis_fit", "circle_pass": "axis_fit", "SurfaceSample": "axis_lines", "smoothed_normals": "axis_lines", "surface_noise": "noise", "noise_estimate": "noise", "NoiseEstimate": "noise", "SherdReport": "sherds", "sherd_stance": "sherds", "half_outlines": "measure", "line_complex_axis": "axis_fit", "tukey_weights": "axis_fit", "search_axis": "axis_search", "fit_axis_lines": "axis_lines", "AxisFit": "axis_lines", "angular_span": "axis_lines", "HalfProfile": "halves", "half_profiles": "halves", "Profile": "profiles", "profile": "profiles", "closing_gap": "partial", "Measurements": "measure", "measure_halves": "measure", "pappus_volume": "measure", "clip_ring": "measure", "resample": "measure", "layout": "drawing", "profile_svg": "drawing", "Appendage": "appendages", "find_appendages": "appendages", "cavity_volume": "cavities"}
+_WHERE = {"Alignment": "axis", "align": "axis", "rotation_to_z": "axis_fit", "surface_moments": "axis_fit", "principal_axis": "axis_fit", "normal_lines_axis": "axis_fit", "refine_axis": "axis_fit", "circle_pass": "axis_fit", "SurfaceSample": "axis_lines", "smoothed_normals": "axis_lines", "surface_noise": "noise", "noise_estimate": "noise", "NoiseEstimate": "noise", "SherdReport": "sherds", "sherd_stance": "sherds", "half_outlines": "measure", "line_complex_axis": "axis_fit", "tukey_weights": "axis_fit", "search_axis": "axis_search", "fit_axis_lines": "axis_lines", "AxisFit": "axis_lines", "angular_span": "axis_lines", "HalfProfile": "halves", "half_profiles": "halves", "Profile": "profiles", "profile": "profiles", "closing_gap": "partial", "Measurements": "measure", "measure_halves": "measure", "pappus_volume": "measure", "clip_ring": "curves", "resample": "curves", "layout": "drawing", "profile_svg": "drawing", "Appendage": "appendages", "find_appendages": "appendages", "cavity_volume": "cavities"}
 
 
 __all__ = ["Alignment", "align", "rotation_to_z", "surface_moments", "principal_axis", "normal_lines_axis", "refine_axis", "circle_pass", "SurfaceSample", "smoothed_normals", "surface_noise", "noise_estimate", "NoiseEstimate", "SherdReport", "sherd_stance", "half_outlines", "line_complex_axis", "tukey_weights", "search_axis", "fit_axis_lines", "AxisFit", "angular_span", "HalfProfile", "half_profiles", "Profile", "profile", "closing_gap", "Measurements", "measure_halves", "pappus_volume", "clip_ring", "resample", "layout", "profile_svg", "Appendage", "find_appendages", "cavity_volume"]

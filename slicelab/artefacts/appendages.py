@@ -17,7 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .measure import resample
+from .curves import resample
 
 __all__ = ["Appendage", "body_radius", "appendage_angle", "find_appendages"]
 

@@ -228,8 +228,8 @@ def _appendage_lines(profile) -> list:
     """Outlines (r, z) of each handle, spout or lug in the vertical plane through it, where they stand
     outside the body (`slicelab.artefacts.appendages.body_radius`, noise margin as its measurement's)."""
     from .appendages import body_radius
-    from .measure import resample
-    from .profiles import half_profiles
+    from .curves import resample
+    from .halves import half_profiles
     found = getattr(profile, "appendages", ())
     if not found or profile.mesh is None:
         return []

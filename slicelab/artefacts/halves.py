@@ -15,7 +15,7 @@ import numpy as np
 from ..geometry.polygons import signed_area
 from ..mesh.core import Mesh
 from ..slicing.sections import section
-from .measure import UP_COSINE, clip_ring, resample
+from .curves import UP_COSINE, clip_ring, resample
 
 __all__ = ["HalfProfile", "half_profiles", "half_from_ring", "plane_candidates", "representative"]
 

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .measure import resample
+from .curves import resample
 
 __all__ = ["SMOOTH_PER_NOISE", "FLOOR_COSINE", "smooth_chain", "split_ring", "ring_noise", "Outline",
            "outline"]

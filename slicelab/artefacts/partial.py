@@ -157,7 +157,7 @@ def composite_half(mesh: Mesh, angles, candidates=None, max_gap: float = 1.0, br
     from shapely.geometry import Polygon
     from shapely.ops import unary_union
 
-    from .measure import clip_ring
+    from .curves import clip_ring
     pieces = []
     for k, a in enumerate(angles):  # a dozen planes
         c, s_ = math.cos(a), math.sin(a)

@@ -225,7 +225,7 @@ def meridian_rings(mesh, angles) -> list:
     """
     from ..geometry.polygons import signed_area
     from ..slicing.sections import section
-    from .measure import clip_ring
+    from .curves import clip_ring
     out = []
     for a in angles:  # a few planes
         c, s = math.cos(a), math.sin(a)
@@ -243,7 +243,7 @@ def _closed_smooth(ring: np.ndarray, width: float, step: float) -> np.ndarray:
     """A closed ring resampled every `step` and smoothed by a Gaussian of sigma `width` (wrapping)."""
     from scipy.ndimage import gaussian_filter1d
 
-    from .measure import resample
+    from .curves import resample
     pts = resample(np.vstack([ring, ring[:1]]), step)[0][:-1]
     if width > 0.5 * step and len(pts) > 8:
         pts = gaussian_filter1d(pts, width / step, axis=0, mode="wrap")
