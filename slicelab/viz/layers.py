@@ -264,9 +264,7 @@ def oblique_view(plan, canvas, x: int, y: int, size: int, *, azim: float = -35.0
     Seen from `elev` degrees above the bed and turned `azim` degrees about z (-35: from the front
     and the right), a point higher up lies nearer the viewer than any point lower down that it
     covers: drawn bottom to top with OpenCV, each layer over the ones below, the picture is
-    right without a depth buffer. It costs about 0.08 s of CPU for 200 layers of an 80 mm teapot
-    (78 k points), 0.2 s for the 600 layers of data/pot.stl (376 k points; measured on the 2-core
-    machine, busy: 0.2 and 0.55 s of wall time).
+    right without a depth buffer, in time that follows the number of points drawn.
 
     Returns
     -------
@@ -331,8 +329,8 @@ def preview_png(plan, path, layers=None, *, pixels: int = 400, legend: bool = Fa
     legend of the roles drawn and an oblique view of the whole part if asked.
 
     Composed as a pixel array with OpenCV (`slicelab.viz.canvas`), not a
-    matplotlib figure, whose import and layout cost `slicelab slice --preview`
-    some 0.4 s (measured by hand): each panel is framed, with millimetre ticks, and titled with
+    matplotlib figure, whose import and layout would weigh on every
+    `slicelab slice --preview`: each panel is framed, with millimetre ticks, and titled with
     its layer and height (and why it was chosen); paths are drawn in their roles' colours
     (`slicelab.printing.roles.STYLES`), a colour at a time, over the travel
     between them. All panels show the same box of the bed, at one scale.

@@ -72,7 +72,7 @@ def _polylines(paths, width_of, p: float, w: float, min_width: float, row0: int 
 
 def _labelled(labels: np.ndarray, chosen: np.ndarray) -> np.ndarray:
     """Where `labels` (non-negative) is one of `chosen`: ``np.isin(labels, chosen)``, by a table
-    (`np.isin` and `np.unique` load numpy.ma, 10 ms in every worker of a print plan)."""
+    (`np.isin` and `np.unique` load numpy.ma, an import in every worker of a print plan)."""
     table = np.zeros(int(labels.max(initial=0)) + 1, bool)
     table[chosen] = True
     return table[labels]
