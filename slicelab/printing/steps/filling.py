@@ -110,8 +110,8 @@ def fill_step(per: Perimeters, infill, *, line_width: float, pixel_size: float, 
             fills += lines
             kinds += ["top"] * len(lines)
             solid_polys = level_polygons(outside)
-    if solid_polys:
-        solid_paths = rectilinear(_simplified(solid_polys, limit), w, angle)
+    for group in _apart(solid_polys, small):  # (each set of disjoint regions filled on its own)
+        solid_paths = rectilinear(_simplified(group, limit), w, angle)
         fills += solid_paths
         kinds += ["solid"] * len(solid_paths)
     gap_fill, gap_widths = list(per.gap_fill), list(per.gap_widths)
@@ -121,6 +121,17 @@ def fill_step(per: Perimeters, infill, *, line_width: float, pixel_size: float, 
         gap_fill += g
         gap_widths += gw
     return Fills(fills, kinds, gap_fill, gap_widths)
+
+
+def _apart(solid: list, small: list) -> list:
+    """The solid regions in groups whose polygons do not overlap: the small regions filled solid
+    apart from the layer's skins (a small region may touch or overlap a skin's polygon where the
+    two were traced from different masks, and lines clipped to overlapping rings pair their
+    crossings wrongly)."""
+    ids = {id(q) for q in small}
+    rest = [q for q in solid if id(q) not in ids]
+    kept = [q for q in solid if id(q) in ids]
+    return [g for g in (rest, kept) if g]
 
 
 def _simplified(polygons: list, tolerance: float) -> list:
